@@ -1,0 +1,240 @@
+//! Reconstruction filters: *where* the taps come from and with which weights.
+//!
+//! All filters clamp to the edge: a tap outside the grid reads the nearest edge voxel, so a
+//! sample exactly on the last voxel plane (`x = n − 1`) or anywhere outside is well defined.
+//!
+//! | filter | taps | weights |
+//! |---|---|---|
+//! | [`Nearest`] | 1 | voxel `⌊x + ½⌋` |
+//! | [`Trilinear`] | 8 | `(1 − f, f)` per axis, `f = x − ⌊x⌋`; two evaluation orders |
+//! | [`TriquadraticBSpline`] | 27 | `((½ − t)²/2, ¾ − t², (½ + t)²/2)` per axis, `t = x − ⌊x + ½⌋` |
+
+use crate::mode::Mode;
+use crate::num::Num;
+use crate::sample::Interp;
+use crate::volume::Volume;
+use crate::voxel::Voxel;
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for super::Nearest {}
+    impl<O: super::TrilinearOrder> Sealed for super::Trilinear<O> {}
+    impl Sealed for super::TriquadraticBSpline {}
+    impl Sealed for super::Tree {}
+    impl Sealed for super::WeightedSum {}
+}
+
+/// A reconstruction filter.
+pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
+    /// Number of voxels read per sample.
+    const TAPS: usize;
+
+    /// Reconstructs the quantities `mode` interpolates at `pos` (voxel units).
+    fn interpolate<V: Voxel, M: Mode<V>>(
+        mode: &M,
+        vol: &Volume<'_, V>,
+        pos: [f32; 3],
+    ) -> Interp<f32>;
+}
+
+/// Splits a coordinate into `⌊x⌋` and the fraction `x − ⌊x⌋`.
+#[inline(always)]
+fn split(x: f32) -> (isize, f32) {
+    let fl = libm::floorf(x);
+    // `as` saturates (and maps NaN to 0), so no coordinate can overflow.
+    (fl as isize, x - fl)
+}
+
+/// Nearest neighbour: the voxel at `⌊x + ½⌋` per axis (round half up).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Nearest;
+
+impl Filter for Nearest {
+    const TAPS: usize = 1;
+
+    #[inline(always)]
+    fn interpolate<V: Voxel, M: Mode<V>>(
+        mode: &M,
+        vol: &Volume<'_, V>,
+        pos: [f32; 3],
+    ) -> Interp<f32> {
+        let [x, y, z] = pos.map(|p| split(p + 0.5).0);
+        mode.weighted(&[vol.fetch_clamped(x, y, z)], &[1.0f32])
+    }
+}
+
+/// The evaluation order of trilinear interpolation (Wittenbrink Table 1).
+pub trait TrilinearOrder: sealed::Sealed + Copy + Default + core::fmt::Debug {
+    /// Interpolates the 8 taps of a cell (tap `i` at corner `(i & 1, (i >> 1) & 1, i >> 2)`)
+    /// at fractions `f`.
+    fn interpolate<T: Num, V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [T; 3]) -> Interp<T>;
+}
+
+/// A binary tree of 7 lerps per interpolated channel.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Tree;
+
+/// A sum of 8 weighted products per channel, with the weights from [`trilinear_weights`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct WeightedSum;
+
+impl TrilinearOrder for Tree {
+    #[inline(always)]
+    fn interpolate<T: Num, V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
+        mode.tree8(taps, f)
+    }
+}
+
+impl TrilinearOrder for WeightedSum {
+    #[inline(always)]
+    fn interpolate<T: Num, V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
+        mode.weighted(taps, &trilinear_weights(f))
+    }
+}
+
+/// The 8 trilinear weights from fractions `[x, y, z]`, indexed like the taps
+/// (`w[i]` for corner `(i & 1, (i >> 1) & 1, i >> 2)`).
+///
+/// Computed as the paper counts them, 4M 19A: the products `xy, xz, yz, xyz`, then
+/// `w111 = xyz`, `w110 = xy − xyz`, …, `w000 = 1 − x − y − z + xy + xz + yz − xyz`.
+/// In exact arithmetic the weights are non-negative and sum to 1; in `f32` each is within
+/// 4 ulp of 1 of its exact value.
+#[inline(always)]
+pub fn trilinear_weights<T: Num>(f: [T; 3]) -> [T; 8] {
+    let [x, y, z] = f;
+    let xy = x * y;
+    let xz = x * z;
+    let yz = y * z;
+    let xyz = xy * z;
+    let w110 = xy - xyz;
+    let w101 = xz - xyz;
+    let w011 = yz - xyz;
+    let w100 = x - xy - xz + xyz;
+    let w010 = y - xy - yz + xyz;
+    let w001 = z - xz - yz + xyz;
+    let w000 = T::ONE - x - y - z + xy + xz + yz - xyz;
+    [w000, w100, w010, w110, w001, w101, w011, xyz]
+}
+
+/// Trilinear interpolation, evaluated in the order `O` ([`WeightedSum`] by default, the
+/// faster one; [`Tree`] for the paper's comparison).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Trilinear<O: TrilinearOrder = WeightedSum>(pub O);
+
+impl Trilinear<WeightedSum> {
+    /// Trilinear as a sum of weighted products (the default order).
+    pub const fn new() -> Self {
+        Self(WeightedSum)
+    }
+}
+
+impl Trilinear<Tree> {
+    /// Trilinear as a binary tree of lerps.
+    pub const fn tree() -> Self {
+        Self(Tree)
+    }
+}
+
+impl<O: TrilinearOrder> Trilinear<O> {
+    /// Interpolates the 8 given taps at fractions `f` in this order, with any [`Num`]
+    /// (the operation-counting tests run this with a counting type).
+    #[inline(always)]
+    pub fn interpolate_taps<T: Num, V: Voxel, M: Mode<V>>(
+        mode: &M,
+        taps: &[V; 8],
+        f: [T; 3],
+    ) -> Interp<T> {
+        O::interpolate(mode, taps, f)
+    }
+
+    /// The 8 taps of the cell containing `pos` (clamped to the edge) and the fractions.
+    #[inline(always)]
+    pub fn gather<V: Voxel>(vol: &Volume<'_, V>, pos: [f32; 3]) -> ([V; 8], [f32; 3]) {
+        let (x, fx) = split(pos[0]);
+        let (y, fy) = split(pos[1]);
+        let (z, fz) = split(pos[2]);
+        let (x1, y1, z1) = (
+            x.saturating_add(1),
+            y.saturating_add(1),
+            z.saturating_add(1),
+        );
+        let taps = [
+            vol.fetch_clamped(x, y, z),
+            vol.fetch_clamped(x1, y, z),
+            vol.fetch_clamped(x, y1, z),
+            vol.fetch_clamped(x1, y1, z),
+            vol.fetch_clamped(x, y, z1),
+            vol.fetch_clamped(x1, y, z1),
+            vol.fetch_clamped(x, y1, z1),
+            vol.fetch_clamped(x1, y1, z1),
+        ];
+        (taps, [fx, fy, fz])
+    }
+}
+
+impl<O: TrilinearOrder> Filter for Trilinear<O> {
+    const TAPS: usize = 8;
+
+    #[inline(always)]
+    fn interpolate<V: Voxel, M: Mode<V>>(
+        mode: &M,
+        vol: &Volume<'_, V>,
+        pos: [f32; 3],
+    ) -> Interp<f32> {
+        let (taps, f) = Self::gather(vol, pos);
+        O::interpolate(mode, &taps, f)
+    }
+}
+
+/// Triquadratic B-spline approximation (27 taps), the filter Kraus pairs with the `a = ⅕`
+/// downsampling mask. Not interpolating: it smooths even at voxel centres.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct TriquadraticBSpline;
+
+/// The quadratic B-spline weights for offset `t = x − ⌊x + ½⌋ ∈ [−½, ½)`, for taps
+/// `−1, 0, +1`.
+#[inline(always)]
+pub fn bspline2_weights(t: f32) -> [f32; 3] {
+    let l = 0.5 - t;
+    let r = 0.5 + t;
+    [0.5 * l * l, 0.75 - t * t, 0.5 * r * r]
+}
+
+impl Filter for TriquadraticBSpline {
+    const TAPS: usize = 27;
+
+    #[inline(always)]
+    fn interpolate<V: Voxel, M: Mode<V>>(
+        mode: &M,
+        vol: &Volume<'_, V>,
+        pos: [f32; 3],
+    ) -> Interp<f32> {
+        let mut base = [0isize; 3];
+        let mut w = [[0.0f32; 3]; 3];
+        for ((b, w), p) in base.iter_mut().zip(w.iter_mut()).zip(pos) {
+            let (i, _) = split(p + 0.5);
+            *b = i;
+            *w = bspline2_weights(p - i as f32);
+        }
+        let [bx, by, bz] = base;
+        let [wx, wy, wz] = w;
+        let taps: [V; 27] = core::array::from_fn(|k| {
+            let (dx, dy, dz) = (k % 3, (k / 3) % 3, k / 9);
+            vol.fetch_clamped(
+                bx.saturating_add(dx as isize - 1),
+                by.saturating_add(dy as isize - 1),
+                bz.saturating_add(dz as isize - 1),
+            )
+        });
+        let weights: [f32; 27] = core::array::from_fn(|k| {
+            let at = |w: &[f32; 3], i: usize| w.get(i).copied().unwrap_or(0.0);
+            at(&wx, k % 3) * at(&wy, (k / 3) % 3) * at(&wz, k / 9)
+        });
+        mode.weighted(&taps, &weights)
+    }
+}

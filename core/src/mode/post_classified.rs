@@ -1,0 +1,58 @@
+//! `PostClassified`: interpolate the scalar, then classify.
+
+use super::{dot, lerp8, sealed, Mode};
+use crate::num::Num;
+use crate::sample::{Interp, Sample};
+use crate::transfer::TransferFunction;
+use crate::voxel::ScalarVoxel;
+
+/// Interpolates the scalar, then applies the transfer function:
+/// `(C, α) = TF(Σ w s)`, `C̃ = α·C` (Wittenbrink table 2, method 1).
+///
+/// Error bound (f32 against the f64 reference): `α` and each `C̃` within
+/// `L·|Δs| + 4e-7` where `|Δs| ≤ 4e-7·s_max·(1 + taps/8)` is the scalar's rounding error and
+/// `L` the transfer function's largest slope (`POST_CLASSIFIED_F32` in the tolerance table).
+#[derive(Debug, Clone, Copy)]
+pub struct PostClassified<'t, const N: usize> {
+    tf: &'t TransferFunction<N>,
+}
+
+impl<'t, const N: usize> PostClassified<'t, N> {
+    /// Post-classification through `tf`.
+    pub fn new(tf: &'t TransferFunction<N>) -> Self {
+        Self { tf }
+    }
+
+    /// The transfer function.
+    pub fn transfer_function(&self) -> &'t TransferFunction<N> {
+        self.tf
+    }
+}
+
+impl<const N: usize> sealed::Sealed for PostClassified<'_, N> {}
+
+impl<V: ScalarVoxel, const N: usize> Mode<V> for PostClassified<'_, N> {
+    const OPACITY_BASED: bool = true;
+
+    #[inline(always)]
+    fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
+        Interp {
+            c: [T::ZERO; 3],
+            a: dot(w, taps, |v| v.scalar::<T>()),
+        }
+    }
+
+    #[inline(always)]
+    fn tree8<T: Num>(&self, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
+        Interp {
+            c: [T::ZERO; 3],
+            a: lerp8(taps.map(|v| v.scalar::<T>()), f),
+        }
+    }
+
+    #[inline(always)]
+    fn finish(&self, i: Interp<f32>, _d: f32) -> Sample {
+        let (c, a) = self.tf.eval(i.a);
+        Sample::clamped(c.map(|c| c * a), a)
+    }
+}

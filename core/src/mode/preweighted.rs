@@ -1,0 +1,39 @@
+//! `Preweighted`: interpolation of stored associated colors (Drebin 1988).
+
+use super::{linear_tree, linear_weighted, sealed, Mode};
+use crate::num::Num;
+use crate::sample::{Interp, Sample};
+use crate::voxel::AssociatedVoxel;
+
+/// Interpolates stored associated colors: `α = Σ wα`, `C̃ = Σ wC̃`.
+///
+/// Equal to [`OpacityWeighted`](super::OpacityWeighted) in exact arithmetic; worse when `C̃`
+/// is stored in few bits ([`AssociatedU8`](crate::AssociatedU8)), because the color of a
+/// voxel with small `α` is rounded to a few levels before it is ever interpolated.
+///
+/// Error bound (f32 against the f64 reference on the same stored values): `α` and each `C̃`
+/// within `4e-7·(1 + taps/8)` (`PREWEIGHTED_F32` in the tests' tolerance table).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Preweighted;
+
+impl sealed::Sealed for Preweighted {}
+
+impl<V: AssociatedVoxel> Mode<V> for Preweighted {
+    const OPACITY_BASED: bool = true;
+
+    #[inline(always)]
+    fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
+        linear_weighted(&taps.map(|v| v.associated::<T>()), w)
+    }
+
+    #[inline(always)]
+    fn tree8<T: Num>(&self, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
+        linear_tree(&taps.map(|v| v.associated::<T>()), f)
+    }
+
+    #[inline(always)]
+    fn finish(&self, i: Interp<f32>, _d: f32) -> Sample {
+        Sample::clamped(i.c, i.a)
+    }
+}

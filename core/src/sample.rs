@@ -1,0 +1,81 @@
+//! The values that flow between the stages of a kernel.
+
+/// An associated (opacity-weighted) color and its opacity: one sample along a ray, or a
+/// composited pixel.
+///
+/// Invariant kept by every kernel: `0 ≤ c[k] ≤ a ≤ 1`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Sample {
+    /// Associated color `C̃`.
+    pub c: [f32; 3],
+    /// Opacity `α`.
+    pub a: f32,
+}
+
+impl Sample {
+    /// Fully transparent black.
+    pub const TRANSPARENT: Self = Self {
+        c: [0.0; 3],
+        a: 0.0,
+    };
+
+    /// Builds a sample from an associated color and opacity, clamping `α` into `[0, 1]` and
+    /// each channel into `[0, α]` (NaN becomes 0).
+    ///
+    /// The kernels use this to absorb rounding at the ulp level (a convex combination of
+    /// values ≤ 1 can round to `1 + ε`); it never hides more than that for valid input.
+    #[inline(always)]
+    pub fn clamped(c: [f32; 3], a: f32) -> Self {
+        let a = clamp01(a);
+        Self {
+            c: c.map(|x| clamp_to(x, a)),
+            a,
+        }
+    }
+
+    /// The straight (displayed) color `C/α`, or black when `α = 0`.
+    pub fn straight_color(&self) -> [f32; 3] {
+        if self.a > 0.0 {
+            self.c.map(|c| (c / self.a).min(1.0))
+        } else {
+            [0.0; 3]
+        }
+    }
+
+    /// `true` when every field is finite and `0 ≤ c[k] ≤ a ≤ 1`.
+    pub fn is_valid(&self) -> bool {
+        self.a.is_finite()
+            && (0.0..=1.0).contains(&self.a)
+            && self
+                .c
+                .iter()
+                .all(|&c| c.is_finite() && c >= 0.0 && c <= self.a)
+    }
+}
+
+/// Clamps into `[0, 1]`; NaN becomes 0.
+#[inline(always)]
+pub(crate) fn clamp01(x: f32) -> f32 {
+    clamp_to(x, 1.0)
+}
+
+/// Clamps into `[0, hi]`; NaN becomes 0.
+#[inline(always)]
+pub(crate) fn clamp_to(x: f32, hi: f32) -> f32 {
+    // `max` returns the non-NaN operand, so NaN maps to 0.
+    x.max(0.0).min(hi)
+}
+
+/// The quantities a sampling mode interpolates, before it turns them into a [`Sample`].
+///
+/// What `c` and `a` mean depends on the mode: straight `C` and `α` (`Separate`), associated
+/// `C̃` and `α` (`OpacityWeighted`, `Preweighted`), `C^τ` and `τ` (`ExtinctionWeighted`), or
+/// the scalar in `a` (`PostClassified`, `c` unused).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Interp<T> {
+    /// The three interpolated color-like channels.
+    pub c: [T; 3],
+    /// The interpolated opacity-like channel.
+    pub a: T,
+}

@@ -1,0 +1,139 @@
+//! Volume views over caller-owned voxel slices.
+
+use crate::error::Error;
+use crate::voxel::{Voxel, VoxelFault};
+
+/// Largest size of one volume axis (2²⁴, so every voxel coordinate is exact in `f32`).
+pub const MAX_DIM: usize = 1 << 24;
+
+/// A validated view of a 3D grid of voxels in a caller-owned slice.
+///
+/// Voxel `(x, y, z)` is at index `x + nx·(y + ny·z)`; voxel centres sit at integer
+/// coordinates, so the volume covers the box `[−½, n − ½]` on each axis. Reconstruction
+/// clamps to the edge: a position outside the grid reads the nearest edge voxel.
+///
+/// The opacity of a voxel is defined for the reference distance `d′`
+/// ([`reference_distance`](Self::reference_distance), one voxel by default).
+///
+/// ```
+/// use volsample::{Volume, StraightU8, Error};
+/// let voxels = [StraightU8([255, 0, 0, 128]); 8];
+/// let vol = Volume::new(&voxels, [2, 2, 2])?;
+/// assert_eq!(vol.dims(), [2, 2, 2]);
+/// assert_eq!(Volume::new(&voxels, [2, 2, 3]).unwrap_err(),
+///            Error::LengthMismatch { expected: 12, actual: 8 });
+/// # Ok::<(), Error>(())
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct Volume<'a, V> {
+    data: &'a [V],
+    dims: [usize; 3],
+    d_ref: f32,
+}
+
+impl<'a, V: Voxel> Volume<'a, V> {
+    /// Wraps `data` as an `nx × ny × nz` volume with reference distance 1 voxel.
+    ///
+    /// # Errors
+    /// [`Error::ZeroDimension`], [`Error::DimensionTooLarge`], [`Error::LengthMismatch`], and for
+    /// the first invalid voxel [`Error::NonFiniteVoxel`], [`Error::VoxelOutOfRange`] or
+    /// [`Error::ColorExceedsOpacity`].
+    pub fn new(data: &'a [V], dims: [usize; 3]) -> Result<Self, Error> {
+        for (axis, &n) in (0u8..).zip(dims.iter()) {
+            if n == 0 {
+                return Err(Error::ZeroDimension { axis });
+            }
+            if n > MAX_DIM {
+                return Err(Error::DimensionTooLarge);
+            }
+        }
+        let [nx, ny, nz] = dims;
+        let expected = nx
+            .checked_mul(ny)
+            .and_then(|p| p.checked_mul(nz))
+            .ok_or(Error::DimensionTooLarge)?;
+        if data.len() != expected {
+            return Err(Error::LengthMismatch {
+                expected,
+                actual: data.len(),
+            });
+        }
+        for (index, v) in data.iter().enumerate() {
+            v.check().map_err(|fault| match fault {
+                VoxelFault::NonFinite => Error::NonFiniteVoxel { index },
+                VoxelFault::OutOfRange => Error::VoxelOutOfRange { index },
+                VoxelFault::ColorExceedsOpacity => Error::ColorExceedsOpacity { index },
+            })?;
+        }
+        Ok(Self {
+            data,
+            dims,
+            d_ref: 1.0,
+        })
+    }
+
+    /// Sets the reference distance `d′` for which the voxel opacities are defined
+    /// (in voxel units).
+    ///
+    /// # Errors
+    /// [`Error::InvalidReferenceDistance`] unless `d_ref` is finite and positive.
+    pub fn with_reference_distance(mut self, d_ref: f32) -> Result<Self, Error> {
+        if !(d_ref.is_finite() && d_ref > 0.0) {
+            return Err(Error::InvalidReferenceDistance);
+        }
+        self.d_ref = d_ref;
+        Ok(self)
+    }
+}
+
+impl<'a, V: Voxel> Volume<'a, V> {
+    /// `[nx, ny, nz]`.
+    #[inline]
+    pub fn dims(&self) -> [usize; 3] {
+        self.dims
+    }
+
+    /// The reference distance `d′` (voxel units).
+    #[inline]
+    pub fn reference_distance(&self) -> f32 {
+        self.d_ref
+    }
+
+    /// The voxel slice.
+    #[inline]
+    pub fn data(&self) -> &'a [V] {
+        self.data
+    }
+
+    /// The voxel at `(x, y, z)`, or `None` outside the grid.
+    #[inline]
+    pub fn get(&self, x: usize, y: usize, z: usize) -> Option<V> {
+        let [nx, ny, nz] = self.dims;
+        if x >= nx || y >= ny || z >= nz {
+            return None;
+        }
+        self.data.get(x + nx * (y + ny * z)).copied()
+    }
+
+    /// The voxel at `(x, y, z)` with each coordinate clamped into the grid (clamp-to-edge).
+    #[inline(always)]
+    pub fn fetch_clamped(&self, x: isize, y: isize, z: isize) -> V {
+        let [nx, ny, _] = self.dims;
+        let [cx, cy, cz] = self.clamp_index([x, y, z]);
+        // In range by the clamp and the validated length, so `get` always hits.
+        self.data
+            .get(cx + nx * (cy + ny * cz))
+            .copied()
+            .unwrap_or(V::TRANSPARENT)
+    }
+
+    /// Clamps a signed voxel coordinate into the grid.
+    #[inline(always)]
+    pub fn clamp_index(&self, i: [isize; 3]) -> [usize; 3] {
+        let mut out = [0usize; 3];
+        for ((o, &i), &n) in out.iter_mut().zip(i.iter()).zip(self.dims.iter()) {
+            *o = if i <= 0 { 0 } else { (i as usize).min(n - 1) };
+        }
+        out
+    }
+}

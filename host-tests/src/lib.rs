@@ -1,0 +1,4 @@
+//! Host side of volsample: the independent f64 reference model, the tolerance table, and the
+//! pieces the `volsample` CLI and the tests share.
+
+// reference: added with the f64 model

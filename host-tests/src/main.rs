@@ -1,0 +1,3 @@
+//! The `volsample` command-line tool.
+
+fn main() {}
