@@ -1,8 +1,10 @@
 //! Host side of volsample: the independent f64 reference model, the tolerance table, and the
 //! pieces the `volsample` CLI and the tests share.
 
-// reference: added with the f64 model
 pub mod demo;
+pub mod float_checks;
+pub mod reference;
+pub mod strategies;
 pub mod tolerance;
 
 #[cfg(doctest)]

@@ -56,10 +56,7 @@ pub fn axis_taps(n: usize, filter: RefFilter, x: f64) -> Vec<(usize, f64)> {
         RefFilter::Trilinear => {
             let i0 = x.floor();
             let f = x - i0;
-            vec![
-                (clamp_index(i0, n), 1.0 - f),
-                (clamp_index(i0 + 1.0, n), f),
-            ]
+            vec![(clamp_index(i0, n), 1.0 - f), (clamp_index(i0 + 1.0, n), f)]
         }
         RefFilter::TriquadraticBSpline => {
             let i = (x + 0.5).floor();

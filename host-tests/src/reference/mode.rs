@@ -3,7 +3,9 @@
 use super::filter::{taps, RefFilter};
 use super::opacity::{extinction_sample, opacity_correct};
 use super::tf::RefTransferFunction;
-use super::volume::{RefAssoc, RefAssocVolume, RefExtinction, RefScalarVolume, RefVolume, RefVoxel};
+use super::volume::{
+    RefAssoc, RefAssocVolume, RefExtinction, RefScalarVolume, RefVolume, RefVoxel,
+};
 
 /// What is interpolated at a sample position.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -197,7 +199,13 @@ pub fn sample_opacity_weighted(
     pos: [f64; 3],
     d: f64,
 ) -> RefAssoc {
-    sample(RefSource::Straight(vol), RefMode::OpacityWeighted, filter, pos, d)
+    sample(
+        RefSource::Straight(vol),
+        RefMode::OpacityWeighted,
+        filter,
+        pos,
+        d,
+    )
 }
 
 /// `Preweighted` sample of stored associated voxels (see [`sample`]).
@@ -207,7 +215,13 @@ pub fn sample_preweighted(
     pos: [f64; 3],
     d: f64,
 ) -> RefAssoc {
-    sample(RefSource::Associated(vol), RefMode::Preweighted, filter, pos, d)
+    sample(
+        RefSource::Associated(vol),
+        RefMode::Preweighted,
+        filter,
+        pos,
+        d,
+    )
 }
 
 /// `ExtinctionWeighted` sample of straight voxels (see [`sample`]).
@@ -275,7 +289,9 @@ mod tests {
             for mode in RefMode::ALL {
                 let pos = [0.3, 1.7, 2.2];
                 let s = match mode {
-                    RefMode::Preweighted => sample(RefSource::Associated(&assoc), mode, filter, pos, 1.0),
+                    RefMode::Preweighted => {
+                        sample(RefSource::Associated(&assoc), mode, filter, pos, 1.0)
+                    }
                     RefMode::PostClassified => {
                         sample(RefSource::Scalar(&scalars, &tf), mode, filter, pos, 1.0)
                     }

@@ -69,7 +69,10 @@ mod tests {
         assert_eq!(phi(f64::INFINITY), 0.0);
         for x in [1e-300, 1e-20, 1e-9, 1e-6] {
             // φ(x) = 1 − x/2 + x²/6 − …
-            assert!((phi(x) - (1.0 - x / 2.0 + x * x / 6.0)).abs() < 1e-15, "{x}");
+            assert!(
+                (phi(x) - (1.0 - x / 2.0 + x * x / 6.0)).abs() < 1e-15,
+                "{x}"
+            );
         }
         assert!((phi(1.0) - (1.0 - (-1.0f64).exp())).abs() < 1e-15);
         assert!((phi(1000.0) - 1e-3).abs() < 1e-18);

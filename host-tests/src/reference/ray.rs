@@ -37,9 +37,9 @@ pub fn clip_ray(dims: [usize; 3], ray: &RefRay) -> Option<(f64, f64)> {
     }
     let mut t0 = f64::NEG_INFINITY;
     let mut t1 = f64::INFINITY;
-    for k in 0..3 {
+    for (k, &n) in dims.iter().enumerate() {
         let lo = -0.5;
-        let hi = dims[k] as f64 - 0.5;
+        let hi = n as f64 - 0.5;
         let (o, v) = (ray.origin[k], ray.dir[k]);
         if v == 0.0 {
             if o < lo || o > hi {
@@ -62,10 +62,14 @@ pub fn clip_ray(dims: [usize; 3], ray: &RefRay) -> Option<(f64, f64)> {
 
 /// Sample parameters `t_k = (k + phase)·d` for every integer `k` with `t0 ≤ t_k < t1`, in
 /// increasing order (`d > 0`, `phase ∈ [0, 1)`). Each `t_k` is computed by that formula (not
-/// by accumulation), so tests can reproduce it exactly.
+/// by accumulation), so tests can reproduce it exactly. Empty when `t0 ≥ t1`, `d ≤ 0`, or a
+/// bound is not finite.
 pub fn sample_times(t0: f64, t1: f64, d: f64, phase: f64) -> Vec<f64> {
     let mut out = Vec::new();
-    if !(t0 < t1) || !(d > 0.0) {
+    // Written positively so that NaN input also yields no samples; infinite bounds would
+    // never end.
+    let valid = t0 < t1 && d > 0.0 && t0.is_finite() && t1.is_finite();
+    if !valid {
         return out;
     }
     let t_of = |k: f64| (k + phase) * d;
@@ -121,14 +125,26 @@ mod tests {
     fn misses() {
         let dims = [4, 4, 4];
         // Parallel, outside the slab.
-        assert_eq!(clip_ray(dims, &RefRay::new([-1.0, 5.0, 1.0], [1.0, 0.0, 0.0])), None);
+        assert_eq!(
+            clip_ray(dims, &RefRay::new([-1.0, 5.0, 1.0], [1.0, 0.0, 0.0])),
+            None
+        );
         // Pointing away.
-        assert_eq!(clip_ray(dims, &RefRay::new([-1.0, 1.0, 1.0], [-1.0, 0.0, 0.0])), None);
+        assert_eq!(
+            clip_ray(dims, &RefRay::new([-1.0, 1.0, 1.0], [-1.0, 0.0, 0.0])),
+            None
+        );
         // Diagonal passing beside the box.
         let s = 0.5f64.sqrt();
-        assert_eq!(clip_ray(dims, &RefRay::new([-5.0, 3.0, 1.0], [s, s, 0.0])), None);
+        assert_eq!(
+            clip_ray(dims, &RefRay::new([-5.0, 3.0, 1.0], [s, s, 0.0])),
+            None
+        );
         // Empty volume.
-        assert_eq!(clip_ray([0, 4, 4], &RefRay::new([-1.0, 1.0, 1.0], [1.0, 0.0, 0.0])), None);
+        assert_eq!(
+            clip_ray([0, 4, 4], &RefRay::new([-1.0, 1.0, 1.0], [1.0, 0.0, 0.0])),
+            None
+        );
     }
 
     #[test]
@@ -151,10 +167,47 @@ mod tests {
         assert_eq!(sample_times(0.0, 3.0, 1.0, 0.0), vec![0.0, 1.0, 2.0]);
         assert_eq!(sample_times(0.0, 3.0, 1.0, 0.5), vec![0.5, 1.5, 2.5]);
         assert_eq!(sample_times(2.5, 6.5, 1.0, 0.5), vec![2.5, 3.5, 4.5, 5.5]);
-        assert_eq!(sample_times(2.5, 6.5, 0.5, 0.0), vec![2.5, 3.0, 3.5, 4.0, 4.5, 5.0, 5.5, 6.0]);
+        assert_eq!(
+            sample_times(2.5, 6.5, 0.5, 0.0),
+            vec![2.5, 3.0, 3.5, 4.0, 4.5, 5.0, 5.5, 6.0]
+        );
         assert_eq!(sample_times(2.6, 2.9, 1.0, 0.0), Vec::<f64>::new());
         assert_eq!(sample_times(1.0, 1.0, 1.0, 0.0), Vec::<f64>::new());
-        assert_eq!(sample_times(0.1, 1.0, 0.25, 0.5), vec![0.125, 0.375, 0.625, 0.875]);
+        assert_eq!(
+            sample_times(0.1, 1.0, 0.25, 0.5),
+            vec![0.125, 0.375, 0.625, 0.875]
+        );
+    }
+
+    #[test]
+    fn sample_times_are_exactly_the_grid_points_in_range() {
+        let mut state = 3u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..2000 {
+            let t0 = next() * 50.0;
+            let t1 = t0 + next() * 10.0;
+            let d = 0.05 + next() * 2.0;
+            let phase = next();
+            let ts = sample_times(t0, t1, d, phase);
+            let t_of = |k: f64| (k + phase) * d;
+            let k_first = match ts.first() {
+                Some(&t) => (t / d - phase).round(),
+                None => (t0 / d - phase).ceil(),
+            };
+            assert!(t_of(k_first - 1.0) < t0);
+            for (n, &t) in ts.iter().enumerate() {
+                assert_eq!(t, t_of(k_first + n as f64));
+                assert!(t0 <= t && t < t1);
+            }
+            assert!(t_of(k_first + ts.len() as f64) >= t1 || ts.is_empty());
+        }
+        assert!(sample_times(0.0, f64::INFINITY, 1.0, 0.0).is_empty());
+        assert!(sample_times(f64::NAN, 1.0, 1.0, 0.0).is_empty());
     }
 
     #[test]
@@ -163,7 +216,12 @@ mod tests {
         let p = sample_positions([4, 4, 4], &ray, 1.0, 0.5);
         assert_eq!(
             p,
-            vec![[-0.5, 1.0, 2.0], [0.5, 1.0, 2.0], [1.5, 1.0, 2.0], [2.5, 1.0, 2.0]]
+            vec![
+                [-0.5, 1.0, 2.0],
+                [0.5, 1.0, 2.0],
+                [1.5, 1.0, 2.0],
+                [2.5, 1.0, 2.0]
+            ]
         );
     }
 }

@@ -136,7 +136,10 @@ mod tests {
 
     #[test]
     fn empty_is_transparent() {
-        assert_eq!(RefTransferFunction::default().eval(0.3), RefVoxel::default());
+        assert_eq!(
+            RefTransferFunction::default().eval(0.3),
+            RefVoxel::default()
+        );
     }
 
     #[test]

@@ -100,6 +100,25 @@ impl RefAssoc {
         Self { color, alpha }
     }
 
+    /// Largest absolute difference over the four channels.
+    pub fn max_abs_diff(self, other: RefAssoc) -> f64 {
+        (0..3)
+            .map(|k| (self.color[k] - other.color[k]).abs())
+            .fold((self.alpha - other.alpha).abs(), f64::max)
+    }
+
+    /// True when every channel is finite, `α ∈ [0, 1]` and each color channel is in
+    /// `[0, α]`, each bound widened by `tol`.
+    pub fn is_valid(self, tol: f64) -> bool {
+        self.alpha.is_finite()
+            && self.alpha >= -tol
+            && self.alpha <= 1.0 + tol
+            && self
+                .color
+                .iter()
+                .all(|c| c.is_finite() && *c >= -tol && *c <= self.alpha + tol)
+    }
+
     /// Straight form `(C̃/α, α)`; the color is `0` when `α = 0`.
     pub fn straight(self) -> RefVoxel {
         if self.alpha == 0.0 {
@@ -165,7 +184,10 @@ impl RefVolume {
     /// # Panics
     /// If the coordinate is outside the volume.
     pub fn get(&self, voxel: [usize; 3]) -> RefVoxel {
-        assert!((0..3).all(|k| voxel[k] < self.dims[k]), "voxel outside volume");
+        assert!(
+            (0..3).all(|k| voxel[k] < self.dims[k]),
+            "voxel outside volume"
+        );
         self.voxels[linear_index(self.dims, voxel)]
     }
 
@@ -284,7 +306,10 @@ mod tests {
         assert!((optical_depth(a) - 2.0).abs() < 1e-14);
         // Just below the cap and just above it.
         assert!(optical_depth(1.0 - 1e-15) < MAX_OPTICAL_DEPTH);
-        assert_eq!(optical_depth(1.0 - 1e-300), MAX_OPTICAL_DEPTH.min(-(1e-300f64).ln()));
+        assert_eq!(
+            optical_depth(1.0 - 1e-300),
+            MAX_OPTICAL_DEPTH.min(-(1e-300f64).ln())
+        );
     }
 
     #[test]
@@ -309,6 +334,17 @@ mod tests {
         assert_eq!(RefAssoc::TRANSPARENT.straight(), RefVoxel::default());
         let vol = RefVolume::uniform([2, 2, 2], v, 1.0);
         assert_eq!(vol.to_associated().to_straight(), vol);
+    }
+
+    #[test]
+    fn assoc_helpers() {
+        let a = RefAssoc::new([0.1, 0.2, 0.3], 0.5);
+        let b = RefAssoc::new([0.1, 0.25, 0.3], 0.4);
+        assert!((a.max_abs_diff(b) - 0.1).abs() < 1e-16);
+        assert!(a.is_valid(0.0));
+        assert!(!RefAssoc::new([0.6, 0.0, 0.0], 0.5).is_valid(0.0));
+        assert!(RefAssoc::new([0.6, 0.0, 0.0], 0.5).is_valid(0.2));
+        assert!(!RefAssoc::new([f64::NAN, 0.0, 0.0], 0.5).is_valid(1.0));
     }
 
     #[test]

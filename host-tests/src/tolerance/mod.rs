@@ -9,3 +9,69 @@
 
 /// `f32` machine epsilon as `f64`, the unit the float bounds are built from.
 pub const EPS32: f64 = f32::EPSILON as f64;
+
+use crate::float_checks::{FilterKind, FloatCase, ModeKind};
+
+/// Interpolation: absolute error per tap of a sum of `f32` products of values in `[0, 1]`
+/// with weights summing to 1 (weight rounding, product and sum rounding), in either trilinear
+/// order. For values up to `v_max` it scales with `v_max`.
+pub const INTERP_PER_TAP: f64 = EPS32;
+
+/// Final rounding and clamping of a sample.
+pub const FLOAT_SAMPLE_BASE: f64 = EPS32;
+
+/// [`volsample::opacity::correct`] against the textbook formula on the same input: absolute
+/// error, times `max(1, d/d′)`.
+pub const CORRECTION_ABS: f64 = 8.0 * EPS32;
+
+/// One compositing step (front to back or back to front): absolute error; `n` steps at most
+/// `n` times this.
+pub const COMPOSITE_STEP: f64 = 3.0 * EPS32;
+
+/// Tree and weighted-sum trilinear orders against each other.
+pub const TRILINEAR_ORDERS: f64 = 2.0 * (FLOAT_SAMPLE_BASE + 8.0 * INTERP_PER_TAP);
+
+/// `Preweighted` on `f32` associated voxels against `OpacityWeighted` on the straight ones
+/// (the stored `α·C` is rounded once more).
+pub const PREWEIGHTED_VS_OPACITY_WEIGHTED: f64 = 2.0 * (FLOAT_SAMPLE_BASE + 27.0 * INTERP_PER_TAP);
+
+/// The error bound of one float sample of `mode` with `filter` on `case` at step `d`, as the
+/// modes' doc comments state it (opacity-based modes: at `d = d′`, before correction):
+///
+/// * `Separate`, `OpacityWeighted`, `Preweighted`: `(1 + taps)·ε`;
+/// * `ExtinctionWeighted`: `(1 + taps·(1 + d·τ_max))·ε`, `τ_max` the largest stored `τ`
+///   (the interpolated `τ` has absolute error `taps·ε·τ_max`, and `|∂α/∂τ| ≤ d`);
+/// * `PostClassified`: `3ε + L·taps·ε·s_max`, `L` the transfer function's steepest slope and
+///   `s_max` the largest scalar magnitude;
+///
+/// with `ε = 2⁻²³`.
+pub fn sample_bound(mode: ModeKind, filter: FilterKind, case: &FloatCase, d: f32) -> f64 {
+    let taps = filter.taps() as f64;
+    match mode {
+        ModeKind::Separate | ModeKind::OpacityWeighted | ModeKind::Preweighted => {
+            FLOAT_SAMPLE_BASE + INTERP_PER_TAP * taps
+        }
+        ModeKind::ExtinctionWeighted => {
+            let tau_max = case.extinction().iter().fold(0.0f32, |m, e| m.max(e.tau));
+            FLOAT_SAMPLE_BASE + INTERP_PER_TAP * taps * (1.0 + f64::from(d * tau_max))
+        }
+        ModeKind::PostClassified => {
+            let s_max = case.scalars.iter().fold(1.0f32, |m, &s| m.max(s.abs()));
+            let slope = case
+                .tf
+                .windows(2)
+                .map(|w| {
+                    let ds = f64::from(w[1].s - w[0].s);
+                    let dv = w[1]
+                        .c
+                        .iter()
+                        .zip(w[0].c.iter())
+                        .map(|(a, b)| (a - b).abs())
+                        .fold((w[1].a - w[0].a).abs(), f32::max);
+                    f64::from(dv) / ds
+                })
+                .fold(0.0, f64::max);
+            3.0 * FLOAT_SAMPLE_BASE + slope * f64::from(s_max) * INTERP_PER_TAP * taps
+        }
+    }
+}

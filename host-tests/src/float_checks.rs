@@ -1,0 +1,284 @@
+//! Float kernels against the independent f64 reference: the cases, the dispatch over every
+//! mode × filter, and the error measures the property tests, the sweeps and the fuzz targets
+//! share.
+
+use volsample::{
+    AssociatedF32, ControlPoint, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack, Mode,
+    Nearest, OpacityWeighted, PostClassified, Preweighted, RayMarcher, Sample, Separate, Step,
+    StraightF32, TransferFunction, Tree, Trilinear, TriquadraticBSpline, Volume, WeightedSum,
+};
+
+use crate::reference::{
+    self, RefAssoc, RefAssocVolume, RefControlPoint, RefExtinction, RefFilter, RefMode,
+    RefScalarVolume, RefSource, RefTransferFunction, RefVolume, RefVoxel,
+};
+
+/// Capacity of the transfer functions the float cases use.
+pub const TF_CAP: usize = 8;
+
+/// Every sampling mode, as a value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ModeKind {
+    /// [`Separate`].
+    Separate,
+    /// [`OpacityWeighted`].
+    OpacityWeighted,
+    /// [`Preweighted`] on `f32` associated voxels.
+    Preweighted,
+    /// [`ExtinctionWeighted`] on `f32` extinction voxels.
+    ExtinctionWeighted,
+    /// [`PostClassified`] on `f32` scalars.
+    PostClassified,
+}
+
+impl ModeKind {
+    /// All modes.
+    pub const ALL: [ModeKind; 5] = [
+        ModeKind::Separate,
+        ModeKind::OpacityWeighted,
+        ModeKind::Preweighted,
+        ModeKind::ExtinctionWeighted,
+        ModeKind::PostClassified,
+    ];
+
+    fn reference(self) -> RefMode {
+        match self {
+            ModeKind::Separate => RefMode::Separate,
+            ModeKind::OpacityWeighted => RefMode::OpacityWeighted,
+            ModeKind::Preweighted => RefMode::Preweighted,
+            ModeKind::ExtinctionWeighted => RefMode::ExtinctionWeighted,
+            ModeKind::PostClassified => RefMode::PostClassified,
+        }
+    }
+}
+
+/// Every filter (and trilinear evaluation order), as a value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FilterKind {
+    /// [`Nearest`].
+    Nearest,
+    /// [`Trilinear`] as a lerp tree.
+    TrilinearTree,
+    /// [`Trilinear`] as a weighted sum.
+    TrilinearSum,
+    /// [`TriquadraticBSpline`].
+    BSpline,
+}
+
+impl FilterKind {
+    /// All filters.
+    pub const ALL: [FilterKind; 4] = [
+        FilterKind::Nearest,
+        FilterKind::TrilinearTree,
+        FilterKind::TrilinearSum,
+        FilterKind::BSpline,
+    ];
+
+    /// The reference filter.
+    pub fn reference(self) -> RefFilter {
+        match self {
+            FilterKind::Nearest => RefFilter::Nearest,
+            FilterKind::TrilinearTree | FilterKind::TrilinearSum => RefFilter::Trilinear,
+            FilterKind::BSpline => RefFilter::TriquadraticBSpline,
+        }
+    }
+
+    /// Taps per sample.
+    pub fn taps(self) -> usize {
+        match self {
+            FilterKind::Nearest => 1,
+            FilterKind::TrilinearTree | FilterKind::TrilinearSum => 8,
+            FilterKind::BSpline => 27,
+        }
+    }
+}
+
+/// One float test case: a volume in every storage form, and a transfer function.
+///
+/// All storage forms derive from `voxels` in `f32`; the reference reads the *stored* `f32`
+/// values (converted exactly to `f64`), so a comparison measures the kernel, not the storage.
+#[derive(Debug, Clone)]
+pub struct FloatCase {
+    /// Volume dimensions.
+    pub dims: [usize; 3],
+    /// Straight voxels.
+    pub voxels: Vec<StraightF32>,
+    /// Scalars for `PostClassified`.
+    pub scalars: Vec<f32>,
+    /// Transfer-function control points (strictly increasing `s`).
+    pub tf: Vec<ControlPoint>,
+    /// Reference distance `d′`.
+    pub d_ref: f32,
+}
+
+impl FloatCase {
+    /// The associated voxels, rounded to `f32` as a user would store them.
+    pub fn associated(&self) -> Vec<AssociatedF32> {
+        self.voxels
+            .iter()
+            .map(|&v| AssociatedF32::from_straight(v))
+            .collect()
+    }
+
+    /// The extinction voxels, converted in `f32` as a user would store them.
+    pub fn extinction(&self) -> Vec<ExtinctionF32> {
+        self.voxels
+            .iter()
+            .map(|&v| ExtinctionF32::from_straight(v, self.d_ref))
+            .collect()
+    }
+
+    /// The core transfer function.
+    ///
+    /// # Panics
+    /// If the control points are invalid (a bad test case).
+    pub fn transfer_function(&self) -> TransferFunction<TF_CAP> {
+        TransferFunction::new(&self.tf).expect("valid test transfer function")
+    }
+
+    fn ref_straight(&self) -> RefVolume {
+        let vox = self
+            .voxels
+            .iter()
+            .map(|v| RefVoxel::new(v.c.map(f64::from), f64::from(v.a)))
+            .collect();
+        RefVolume::new(self.dims, vox, f64::from(self.d_ref))
+    }
+
+    fn ref_tf(&self) -> RefTransferFunction {
+        RefTransferFunction::new(
+            self.tf
+                .iter()
+                .map(|p| RefControlPoint::new(f64::from(p.s), p.c.map(f64::from), f64::from(p.a)))
+                .collect(),
+        )
+    }
+
+    /// The reference sample of `mode` with `filter` at `pos` for step `d`, computed from the
+    /// same stored `f32` values the core reads.
+    pub fn reference_sample(
+        &self,
+        mode: ModeKind,
+        filter: FilterKind,
+        pos: [f32; 3],
+        d: f32,
+    ) -> RefAssoc {
+        let pos = pos.map(f64::from);
+        let d = f64::from(d);
+        let f = filter.reference();
+        match mode {
+            ModeKind::Separate | ModeKind::OpacityWeighted => reference::sample(
+                RefSource::Straight(&self.ref_straight()),
+                mode.reference(),
+                f,
+                pos,
+                d,
+            ),
+            ModeKind::Preweighted => {
+                let vox = self
+                    .associated()
+                    .iter()
+                    .map(|v| RefAssoc::new(v.c.map(f64::from), f64::from(v.a)))
+                    .collect();
+                let vol = RefAssocVolume::new(self.dims, vox, f64::from(self.d_ref));
+                reference::sample(RefSource::Associated(&vol), RefMode::Preweighted, f, pos, d)
+            }
+            ModeKind::ExtinctionWeighted => {
+                // Interpolate the stored (τ, C^τ) with the reference taps, then integrate.
+                let ext = self.extinction();
+                let mut e = RefExtinction {
+                    tau: 0.0,
+                    color_tau: [0.0; 3],
+                };
+                for (i, w) in reference::taps(self.dims, f, pos) {
+                    e.tau += w * f64::from(ext[i].tau);
+                    for k in 0..3 {
+                        e.color_tau[k] += w * f64::from(ext[i].c_tau[k]);
+                    }
+                }
+                reference::extinction_sample(e, d)
+            }
+            ModeKind::PostClassified => {
+                let sv = RefScalarVolume::new(
+                    self.dims,
+                    self.scalars.iter().map(|&s| f64::from(s)).collect(),
+                    f64::from(self.d_ref),
+                );
+                let tf = self.ref_tf();
+                reference::sample(
+                    RefSource::Scalar(&sv, &tf),
+                    RefMode::PostClassified,
+                    f,
+                    pos,
+                    d,
+                )
+            }
+        }
+    }
+
+    /// The core sample of `mode` with `filter` at `pos` for step `d` (through
+    /// [`RayMarcher::sample`], so opacity correction is included when `d ≠ d′`).
+    ///
+    /// # Panics
+    /// If the core rejects the case (a bad test case).
+    pub fn core_sample(&self, mode: ModeKind, filter: FilterKind, pos: [f32; 3], d: f32) -> Sample {
+        let step = Step::new(d).expect("valid step");
+        match mode {
+            ModeKind::Separate => self.with_filter(&self.voxels, Separate, filter, step, pos),
+            ModeKind::OpacityWeighted => {
+                self.with_filter(&self.voxels, OpacityWeighted, filter, step, pos)
+            }
+            ModeKind::Preweighted => {
+                self.with_filter(&self.associated(), Preweighted, filter, step, pos)
+            }
+            ModeKind::ExtinctionWeighted => {
+                self.with_filter(&self.extinction(), ExtinctionWeighted, filter, step, pos)
+            }
+            ModeKind::PostClassified => {
+                let tf = self.transfer_function();
+                self.with_filter(&self.scalars, PostClassified::new(&tf), filter, step, pos)
+            }
+        }
+    }
+
+    fn with_filter<V: volsample::voxel::Voxel, M: Mode<V> + Copy>(
+        &self,
+        data: &[V],
+        mode: M,
+        filter: FilterKind,
+        step: Step,
+        pos: [f32; 3],
+    ) -> Sample {
+        match filter {
+            FilterKind::Nearest => self.run(data, mode, Nearest, step, pos),
+            FilterKind::TrilinearTree => self.run(data, mode, Trilinear(Tree), step, pos),
+            FilterKind::TrilinearSum => self.run(data, mode, Trilinear(WeightedSum), step, pos),
+            FilterKind::BSpline => self.run(data, mode, TriquadraticBSpline, step, pos),
+        }
+    }
+
+    fn run<V: volsample::voxel::Voxel, M: Mode<V> + Copy, F: Filter>(
+        &self,
+        data: &[V],
+        mode: M,
+        filter: F,
+        step: Step,
+        pos: [f32; 3],
+    ) -> Sample {
+        let vol = Volume::new(data, self.dims)
+            .and_then(|v| v.with_reference_distance(self.d_ref))
+            .expect("valid test volume");
+        RayMarcher::new(vol, mode, filter, FrontToBack::new(), step)
+            .expect("valid pipeline")
+            .sample(pos)
+    }
+}
+
+/// Largest absolute difference over `α` and the three `C̃` channels.
+pub fn max_abs_diff(core: Sample, reference: RefAssoc) -> f64 {
+    let mut m = (f64::from(core.a) - reference.alpha).abs();
+    for k in 0..3 {
+        m = m.max((f64::from(core.c[k]) - reference.color[k]).abs());
+    }
+    m
+}
