@@ -282,3 +282,177 @@ pub fn max_abs_diff(core: Sample, reference: RefAssoc) -> f64 {
     }
     m
 }
+
+/// A camera for a render comparison, in both the core's and the reference's form.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CameraSpec {
+    /// [`volsample::Orthographic`] with `eye, dir, up, extent`.
+    Orthographic([f32; 3], [f32; 3], [f32; 3], f32),
+    /// [`volsample::Perspective`] with `eye, target, up, fov_y`.
+    Perspective([f32; 3], [f32; 3], [f32; 3], f32),
+}
+
+/// Everything a whole-image comparison needs besides the volume.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderSpec {
+    /// The camera.
+    pub camera: CameraSpec,
+    /// Image width.
+    pub width: usize,
+    /// Image height.
+    pub height: usize,
+    /// Step `d`.
+    pub step: f32,
+    /// Phase in `[0, 1)`.
+    pub phase: f32,
+    /// Associated background.
+    pub background: Sample,
+    /// Early-termination threshold (`1.0`: none).
+    pub a_stop: f32,
+    /// Composite back to front instead (needs `a_stop = 1`).
+    pub back_to_front: bool,
+}
+
+impl FloatCase {
+    /// The core's image of `mode` with `filter` for `spec`.
+    ///
+    /// # Panics
+    /// If the core rejects the case (a bad test case).
+    pub fn core_render(
+        &self,
+        mode: ModeKind,
+        filter: FilterKind,
+        spec: &RenderSpec,
+    ) -> Vec<Sample> {
+        match mode {
+            ModeKind::Separate => self.render_filter(&self.voxels, Separate, filter, spec),
+            ModeKind::OpacityWeighted => {
+                self.render_filter(&self.voxels, OpacityWeighted, filter, spec)
+            }
+            ModeKind::Preweighted => {
+                self.render_filter(&self.associated(), Preweighted, filter, spec)
+            }
+            ModeKind::ExtinctionWeighted => {
+                self.render_filter(&self.extinction(), ExtinctionWeighted, filter, spec)
+            }
+            ModeKind::PostClassified => {
+                let tf = self.transfer_function();
+                self.render_filter(&self.scalars, PostClassified::new(&tf), filter, spec)
+            }
+        }
+    }
+
+    fn render_filter<V: volsample::voxel::Voxel, M: Mode<V> + Copy>(
+        &self,
+        data: &[V],
+        mode: M,
+        filter: FilterKind,
+        spec: &RenderSpec,
+    ) -> Vec<Sample> {
+        match filter {
+            FilterKind::Nearest => self.render_order(data, mode, Nearest, spec),
+            FilterKind::TrilinearTree => self.render_order(data, mode, Trilinear(Tree), spec),
+            FilterKind::TrilinearSum => self.render_order(data, mode, Trilinear(WeightedSum), spec),
+            FilterKind::BSpline => self.render_order(data, mode, TriquadraticBSpline, spec),
+        }
+    }
+
+    fn render_order<V: volsample::voxel::Voxel, M: Mode<V> + Copy, F: Filter>(
+        &self,
+        data: &[V],
+        mode: M,
+        filter: F,
+        spec: &RenderSpec,
+    ) -> Vec<Sample> {
+        if spec.back_to_front {
+            self.render_with(data, mode, filter, volsample::BackToFront, spec)
+        } else if spec.a_stop < 1.0 {
+            let order = FrontToBack::with_threshold(spec.a_stop).expect("valid threshold");
+            self.render_with(data, mode, filter, order, spec)
+        } else {
+            self.render_with(data, mode, filter, FrontToBack::new(), spec)
+        }
+    }
+
+    fn render_with<V, M, F, O>(
+        &self,
+        data: &[V],
+        mode: M,
+        filter: F,
+        order: O,
+        spec: &RenderSpec,
+    ) -> Vec<Sample>
+    where
+        V: volsample::voxel::Voxel,
+        M: Mode<V> + Copy,
+        F: Filter,
+        O: volsample::composite::Order,
+    {
+        let vol = Volume::new(data, self.dims)
+            .and_then(|v| v.with_reference_distance(self.d_ref))
+            .expect("valid test volume");
+        let step = Step::new(spec.step)
+            .and_then(|s| s.with_phase(spec.phase))
+            .expect("valid step");
+        let marcher = RayMarcher::new(vol, mode, filter, order, step)
+            .and_then(|m| m.with_background(spec.background))
+            .expect("valid pipeline");
+        let mut image = vec![Sample::TRANSPARENT; spec.width * spec.height];
+        let result = match spec.camera {
+            CameraSpec::Orthographic(eye, dir, up, extent) => {
+                let cam = volsample::Orthographic::new(eye, dir, up, extent).expect("valid camera");
+                marcher.render_into(&cam, spec.width, spec.height, &mut image)
+            }
+            CameraSpec::Perspective(eye, target, up, fov) => {
+                let cam = volsample::Perspective::new(eye, target, up, fov).expect("valid camera");
+                marcher.render_into(&cam, spec.width, spec.height, &mut image)
+            }
+        };
+        result.expect("valid image");
+        image
+    }
+
+    /// The reference image of `mode` with `filter` for `spec` (straight or scalar source; the
+    /// reference premultiplies and converts to extinction in `f64`).
+    pub fn reference_render(
+        &self,
+        mode: ModeKind,
+        filter: FilterKind,
+        spec: &RenderSpec,
+    ) -> Vec<RefAssoc> {
+        let v3 = |v: [f32; 3]| v.map(f64::from);
+        let camera = match spec.camera {
+            CameraSpec::Orthographic(eye, dir, up, extent) => reference::RefCamera::Orthographic {
+                eye: v3(eye),
+                dir: v3(dir),
+                up: v3(up),
+                extent: f64::from(extent),
+            },
+            CameraSpec::Perspective(eye, target, up, fov) => reference::RefCamera::Perspective {
+                eye: v3(eye),
+                target: v3(target),
+                up: v3(up),
+                fov_y: f64::from(fov),
+            },
+        };
+        let mut params = reference::RefRenderParams::new(spec.width, spec.height);
+        params.mode = mode.reference();
+        params.filter = filter.reference();
+        params.step = f64::from(spec.step);
+        params.phase = f64::from(spec.phase);
+        params.background = RefAssoc::new(v3(spec.background.c), f64::from(spec.background.a));
+        params.a_stop = f64::from(spec.a_stop);
+        let straight = self.ref_straight();
+        let scalars = RefScalarVolume::new(
+            self.dims,
+            self.scalars.iter().map(|&s| f64::from(s)).collect(),
+            f64::from(self.d_ref),
+        );
+        let tf = self.ref_tf();
+        let source = match mode {
+            ModeKind::PostClassified => RefSource::Scalar(&scalars, &tf),
+            _ => RefSource::Straight(&straight),
+        };
+        reference::render_reference(&camera, source, &params)
+    }
+}

@@ -2,7 +2,7 @@
 //! tests hold the kernels to.
 //!
 //! Float bounds are absolute errors on values in `[0, 1]` (opacity, associated color) unless
-//! the name says ulp. Integer bounds (in [`integer`]) are in output LSBs.
+//! the name says ulp. Integer bounds are in output LSBs.
 //!
 //! A bound here is a promise made in the kernel's doc comment; a test that measures a larger
 //! error fails, and the closing notes quote the worst error observed next to the bound.
@@ -75,3 +75,8 @@ pub fn sample_bound(mode: ModeKind, filter: FilterKind, case: &FloatCase, d: f32
         }
     }
 }
+
+/// Extinction-weighted ray integration (midpoint samples) against the ground-truth integral
+/// of the same trilinear extinction field, on smooth data: error at most this times the step
+/// `d` (voxel units).
+pub const EXTINCTION_TRUTH_PER_STEP: f64 = 0.05;
