@@ -8,6 +8,10 @@
 //! | [`Nearest`] | 1 | voxel `⌊x + ½⌋` |
 //! | [`Trilinear`] | 8 | `(1 − f, f)` per axis, `f = x − ⌊x⌋`; two evaluation orders |
 //! | [`TriquadraticBSpline`] | 27 | `((½ − t)²/2, ¾ − t², (½ + t)²/2)` per axis, `t = x − ⌊x + ½⌋` |
+//!
+//! The weights of every filter add up to exactly 1 in floating point (weight 0 is computed as
+//! 1 minus the others, in the order the kernels sum them), so constant data, in particular an
+//! opaque region, is reproduced exactly.
 
 use crate::mode::Mode;
 use crate::num::Num;
@@ -98,10 +102,15 @@ impl TrilinearOrder for WeightedSum {
 /// The 8 trilinear weights from fractions `[x, y, z]`, indexed like the taps
 /// (`w[i]` for corner `(i & 1, (i >> 1) & 1, i >> 2)`).
 ///
-/// Computed as the paper counts them, 4M 19A: the products `xy, xz, yz, xyz`, then
-/// `w111 = xyz`, `w110 = xy − xyz`, …, `w000 = 1 − x − y − z + xy + xz + yz − xyz`.
-/// In exact arithmetic the weights are non-negative and sum to 1; in `f32` each is within
-/// 4 ulp of 1 of its exact value.
+/// Computed as the paper counts them, 4M 19A: the products `xy, xz, yz, xyz` (4M), then
+/// `w111 = xyz`, `w110 = xy − xyz`, …, `w001 = z − xz − yz + xyz` (12A), and
+/// `w000 = 1 − (w111 + w011 + w101 + w001 + w110 + w010 + w100)` (7A) — the paper's
+/// `1 − x − y − z + xy + xz + yz − xyz` in exact arithmetic, but summed in the order the
+/// kernels sum, so that the weights add up to exactly 1 in floating point and a constant
+/// region is reproduced exactly (see the mode module's `dot`).
+///
+/// Error bound: each weight within `4ε` of its exact value (`ε = 2⁻²³` in `f32`); `w000` may
+/// be `−4ε` where its exact value is 0.
 #[inline(always)]
 pub fn trilinear_weights<T: Num>(f: [T; 3]) -> [T; 8] {
     let [x, y, z] = f;
@@ -115,7 +124,8 @@ pub fn trilinear_weights<T: Num>(f: [T; 3]) -> [T; 8] {
     let w100 = x - xy - xz + xyz;
     let w010 = y - xy - yz + xyz;
     let w001 = z - xz - yz + xyz;
-    let w000 = T::ONE - x - y - z + xy + xz + yz - xyz;
+    let rest = xyz + w011 + w101 + w001 + w110 + w010 + w100;
+    let w000 = T::ONE - rest;
     [w000, w100, w010, w110, w001, w101, w011, xyz]
 }
 
@@ -231,10 +241,16 @@ impl Filter for TriquadraticBSpline {
                 bz.saturating_add(dz as isize - 1),
             )
         });
-        let weights: [f32; 27] = core::array::from_fn(|k| {
+        let mut weights: [f32; 27] = core::array::from_fn(|k| {
             let at = |w: &[f32; 3], i: usize| w.get(i).copied().unwrap_or(0.0);
             at(&wx, k % 3) * at(&wy, (k / 3) % 3) * at(&wz, k / 9)
         });
+        // Partition of unity in floating point: weight 0 is 1 minus the others, summed in the
+        // kernels' order (last to first), so constant data is reproduced exactly.
+        let rest = weights.iter().skip(1).rev().fold(0.0f32, |acc, w| acc + w);
+        if let Some(w0) = weights.first_mut() {
+            *w0 = 1.0 - rest;
+        }
         mode.weighted(&taps, &weights)
     }
 }

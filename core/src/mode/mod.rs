@@ -56,12 +56,27 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     fn finish(&self, i: Interp<f32>, d: f32) -> Sample;
 }
 
-/// `Σ w_i·x_i`, starting from the first product (8M 7A for 8 taps).
+/// `Σ w_i·x_i`, summed from the *last* tap down to tap 0 (8M 7A for 8 taps).
+///
+/// The order is part of the contract with the filters: they compute weight 0 as `1 − S`, with
+/// `S` the sum of the other weights in exactly this order, so that for `x_i = 1` the result is
+/// exactly 1 (`fl(S + fl(1 − S)) = 1` for every `S ∈ [0, 2]`). A constant opaque region then
+/// interpolates to `α = 1` exactly, which opacity correction (ill-conditioned at 1) needs.
 #[inline(always)]
 pub(crate) fn dot<T: Num, X, const K: usize>(w: &[T; K], xs: &[X; K], f: impl Fn(&X) -> T) -> T {
-    let mut it = w.iter().zip(xs.iter());
+    let mut it = w.iter().zip(xs.iter()).rev();
     match it.next() {
         Some((w0, x0)) => it.fold(*w0 * f(x0), |acc, (w, x)| acc + *w * f(x)),
+        None => T::ZERO,
+    }
+}
+
+/// `Σ x_i` in the order of [`dot`] (last to first).
+#[inline(always)]
+pub(crate) fn sum<T: Num, const K: usize>(xs: &[T; K]) -> T {
+    let mut it = xs.iter().rev();
+    match it.next() {
+        Some(x0) => it.fold(*x0, |acc, x| acc + *x),
         None => T::ZERO,
     }
 }

@@ -1,6 +1,6 @@
 //! `OpacityWeighted`: opacity-weighted color interpolation (Wittenbrink, Malzbender, Goss 1998).
 
-use super::{dot, lerp8, sealed, Mode};
+use super::{dot, lerp8, sealed, sum, Mode};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::StraightVoxel;
@@ -32,12 +32,8 @@ impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
         for (o, v) in omega.iter_mut().zip(ch.iter()) {
             *o = *o * v.1;
         }
-        // α = Σ ω_i: K−1 additions.
-        let mut it = omega.iter();
-        let a = match it.next() {
-            Some(o0) => it.fold(*o0, |acc, o| acc + *o),
-            None => T::ZERO,
-        };
+        // α = Σ ω_i: K−1 additions, in the order of `dot` (exactly 1 where all α_i = 1).
+        let a = sum(&omega);
         Interp {
             c: [
                 dot(&omega, &ch, |v| v.0[0]),
