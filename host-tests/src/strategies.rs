@@ -10,7 +10,7 @@ pub fn unit() -> impl Strategy<Value = f32> {
     prop_oneof![1 => Just(0.0f32), 1 => Just(1.0f32), 6 => 0.0f32..=1.0]
 }
 
-/// A straight voxel with opacity from [`unit`].
+/// A straight voxel with opacity from [`unit()`].
 pub fn voxel() -> impl Strategy<Value = StraightF32> {
     ([0.0f32..=1.0, 0.0f32..=1.0, 0.0f32..=1.0], unit()).prop_map(|(c, a)| StraightF32 { c, a })
 }
