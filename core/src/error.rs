@@ -75,9 +75,28 @@ pub enum Error {
     },
     /// The image has zero width or height.
     EmptyImage,
+    /// An isosurface classifier has a non-finite value, an opacity outside `[0, 1]` or a
+    /// non-positive thickness.
+    InvalidClassifier,
+    /// A light has a non-finite or zero direction or a negative coefficient.
+    InvalidLight,
     /// The step is so small that a ray through the volume would take more than
     /// [`MAX_SAMPLES_PER_RAY`](crate::render::MAX_SAMPLES_PER_RAY) samples.
     TooManySamples,
+    /// A fixed-point sample position has a fraction `≥ 2^F` or does not fit in `u32`.
+    InvalidPosition,
+    /// An integer sample does not satisfy `C̃ ≤ α ≤ ONE`.
+    InvalidIntSample,
+    /// A downsampling filter's outer weight `a` is not finite or not in `[0, ½]`.
+    InvalidDownsampleFilter,
+    /// An output buffer (a downsampled level or a mipmap chain) does not hold the number of
+    /// voxels the level or chain needs.
+    OutputLengthMismatch {
+        /// The voxels needed.
+        expected: usize,
+        /// The buffer length given.
+        actual: usize,
+    },
 }
 
 impl fmt::Display for Error {
@@ -124,9 +143,28 @@ impl fmt::Display for Error {
                 "image slice holds {actual} pixels but width*height is {expected}"
             ),
             Error::EmptyImage => f.write_str("the image has zero width or height"),
+            Error::InvalidClassifier => f.write_str(
+                "the isosurface classifier needs a finite isovalue, opacity in [0, 1], thickness > 0",
+            ),
+            Error::InvalidLight => f.write_str(
+                "the light needs a finite non-zero direction and non-negative coefficients",
+            ),
             Error::TooManySamples => {
                 f.write_str("the step is too small: a ray would take too many samples")
             }
+            Error::InvalidPosition => {
+                f.write_str("the fixed-point position has a fraction out of range or overflows")
+            }
+            Error::InvalidIntSample => {
+                f.write_str("the integer sample breaks C <= A <= ONE")
+            }
+            Error::InvalidDownsampleFilter => {
+                f.write_str("the downsampling filter weight a must be finite and in [0, 1/2]")
+            }
+            Error::OutputLengthMismatch { expected, actual } => write!(
+                f,
+                "output buffer holds {actual} voxels but the level or chain needs {expected}"
+            ),
         }
     }
 }

@@ -33,15 +33,18 @@
 #![no_std]
 #![doc(test(attr(deny(warnings))))]
 
+pub mod classify;
 pub mod composite;
 pub mod error;
 pub mod filter;
+pub mod fixed_point;
 pub mod mode;
 pub mod num;
 pub mod opacity;
 pub mod ray;
 pub mod render;
 pub mod sample;
+pub mod shade;
 pub mod transfer;
 pub mod volume;
 pub mod voxel;

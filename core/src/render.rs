@@ -197,11 +197,19 @@ where
     /// Integrates one ray and composites it over the background.
     #[inline]
     pub fn cast(&self, ray: &Ray) -> Sample {
-        let acc = match self.correction {
+        self.cast_counted(ray).0
+    }
+
+    /// [`cast`](Self::cast), also returning the number of samples taken (fewer than the
+    /// ray's sample count when early termination stops it). The count costs nothing when it
+    /// is not used.
+    #[inline]
+    pub fn cast_counted(&self, ray: &Ray) -> (Sample, u32) {
+        let (acc, n) = match self.correction {
             Some(c) => self.march(ray, &c),
             None => self.march(ray, &Uncorrected),
         };
-        over(acc, self.background)
+        (over(acc, self.background), n)
     }
 
     /// The ray's sample range: the first sample's `t`, and the sample count.
@@ -217,7 +225,7 @@ where
     }
 
     #[inline(always)]
-    fn march<C: Correction>(&self, ray: &Ray, corr: &C) -> Sample {
+    fn march<C: Correction>(&self, ray: &Ray, corr: &C) -> (Sample, u32) {
         let (t_first, n) = self.samples(ray);
         let d = self.step.d;
         let mut acc = Sample::TRANSPARENT;
@@ -227,7 +235,7 @@ where
                 let s = self.sample_with(ray.at(t_first + j as f32 * d), corr);
                 acc = front_to_back(acc, s);
                 if term.done(acc.a) {
-                    break;
+                    return (acc, j + 1);
                 }
             }
         } else {
@@ -236,7 +244,13 @@ where
                 acc = back_to_front(acc, s);
             }
         }
-        acc
+        (acc, n)
+    }
+
+    /// The number of samples a ray takes without early termination, and the distance `t` of
+    /// the first one.
+    pub fn sample_range(&self, ray: &Ray) -> (f32, u32) {
+        self.samples(ray)
     }
 
     /// Renders a `width × height` image (row-major, row 0 at the top) into `image`.

@@ -6,6 +6,8 @@ pub mod float_checks;
 pub mod reference;
 pub mod strategies;
 pub mod tolerance;
+pub mod int_model;
+pub mod checks;
 
 #[cfg(doctest)]
 #[doc = include_str!("../../README.md")]

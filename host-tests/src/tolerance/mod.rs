@@ -7,6 +7,9 @@
 //! A bound here is a promise made in the kernel's doc comment; a test that measures a larger
 //! error fails, and the closing notes quote the worst error observed next to the bound.
 
+/// Integer-kernel bounds (`volsample::fixed_point`), in output LSBs.
+pub mod integer;
+
 /// `f32` machine epsilon as `f64`, the unit the float bounds are built from.
 pub const EPS32: f64 = f32::EPSILON as f64;
 
@@ -27,9 +30,6 @@ pub const CORRECTION_ABS: f64 = 8.0 * EPS32;
 /// One compositing step (front to back or back to front): absolute error; `n` steps at most
 /// `n` times this.
 pub const COMPOSITE_STEP: f64 = 3.0 * EPS32;
-
-/// Tree and weighted-sum trilinear orders against each other.
-pub const TRILINEAR_ORDERS: f64 = 2.0 * (FLOAT_SAMPLE_BASE + 8.0 * INTERP_PER_TAP);
 
 /// `Preweighted` on `f32` associated voxels against `OpacityWeighted` on the straight ones
 /// (the stored `α·C` is rounded once more).
