@@ -59,7 +59,12 @@ impl Light {
     pub fn factor(&self, g: [f32; 3]) -> f32 {
         let len = libm::sqrtf(g.iter().map(|x| x * x).sum());
         let cos = if len > 0.0 && len.is_finite() {
-            (g.iter().zip(self.dir.iter()).map(|(a, b)| a * b).sum::<f32>() / len).abs()
+            (g.iter()
+                .zip(self.dir.iter())
+                .map(|(a, b)| a * b)
+                .sum::<f32>()
+                / len)
+                .abs()
         } else {
             1.0
         };

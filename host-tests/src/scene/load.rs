@@ -1,0 +1,292 @@
+//! Loading a user's volume (raw or NRRD) and transfer function (JSON or text).
+//!
+//! Every failure is a [`LoadError`] that names the file and the problem; nothing panics on
+//! bad input.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use volsample::ControlPoint;
+
+/// Scalar sample types a raw or NRRD file may hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScalarType {
+    /// Unsigned 8-bit.
+    U8,
+    /// Unsigned 16-bit.
+    U16,
+    /// IEEE 32-bit float.
+    F32,
+}
+
+impl ScalarType {
+    /// Bytes per value.
+    pub fn size(self) -> usize {
+        match self {
+            ScalarType::U8 => 1,
+            ScalarType::U16 => 2,
+            ScalarType::F32 => 4,
+        }
+    }
+
+    /// Parses `u8`/`uint8`/`uchar`, `u16`/`uint16`/`ushort`, `f32`/`float`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "u8" | "uint8" | "uchar" | "unsigned char" | "uint8_t" => Some(ScalarType::U8),
+            "u16" | "uint16" | "ushort" | "unsigned short" | "uint16_t" => Some(ScalarType::U16),
+            "f32" | "float" | "float32" => Some(ScalarType::F32),
+            _ => None,
+        }
+    }
+}
+
+/// Why a file could not be loaded.
+#[derive(Debug)]
+pub enum LoadError {
+    /// The file could not be read.
+    Io(PathBuf, std::io::Error),
+    /// The file is readable but malformed; the text says where and how.
+    Format(PathBuf, String),
+}
+
+impl fmt::Display for LoadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LoadError::Io(p, e) => write!(f, "{}: {e}", p.display()),
+            LoadError::Format(p, m) => write!(f, "{}: {m}", p.display()),
+        }
+    }
+}
+
+impl std::error::Error for LoadError {}
+
+fn bad(path: &Path, msg: impl Into<String>) -> LoadError {
+    LoadError::Format(path.to_path_buf(), msg.into())
+}
+
+/// Decodes `bytes` as `count` values of `ty`, little- or big-endian, into `f32`.
+fn decode(
+    path: &Path,
+    bytes: &[u8],
+    ty: ScalarType,
+    count: usize,
+    big_endian: bool,
+) -> Result<Vec<f32>, LoadError> {
+    let need = count
+        .checked_mul(ty.size())
+        .ok_or_else(|| bad(path, "dimensions overflow"))?;
+    if bytes.len() != need {
+        return Err(bad(
+            path,
+            format!(
+                "holds {} data bytes, but {count} {ty:?} values need {need}",
+                bytes.len()
+            ),
+        ));
+    }
+    let out: Vec<f32> = match ty {
+        ScalarType::U8 => bytes.iter().map(|&b| f32::from(b)).collect(),
+        ScalarType::U16 => bytes
+            .chunks_exact(2)
+            .map(|c| {
+                let a = [c[0], c[1]];
+                f32::from(if big_endian {
+                    u16::from_be_bytes(a)
+                } else {
+                    u16::from_le_bytes(a)
+                })
+            })
+            .collect(),
+        ScalarType::F32 => bytes
+            .chunks_exact(4)
+            .map(|c| {
+                let a = [c[0], c[1], c[2], c[3]];
+                if big_endian {
+                    f32::from_be_bytes(a)
+                } else {
+                    f32::from_le_bytes(a)
+                }
+            })
+            .collect(),
+    };
+    if let Some(i) = out.iter().position(|v| !v.is_finite()) {
+        return Err(bad(path, format!("value {i} is NaN or infinite")));
+    }
+    Ok(out)
+}
+
+/// Loads a headerless little-endian raw volume of `dims` values of `ty`.
+///
+/// # Errors
+/// Unreadable file, a size that does not match `dims × ty`, zero dimensions, NaN/∞ floats.
+pub fn load_raw(path: &Path, dims: [usize; 3], ty: ScalarType) -> Result<Vec<f32>, LoadError> {
+    if dims.contains(&0) {
+        return Err(bad(path, "a dimension is zero"));
+    }
+    let bytes = std::fs::read(path).map_err(|e| LoadError::Io(path.to_path_buf(), e))?;
+    let count = dims[0]
+        .checked_mul(dims[1])
+        .and_then(|p| p.checked_mul(dims[2]))
+        .ok_or_else(|| bad(path, "dimensions overflow"))?;
+    decode(path, &bytes, ty, count, false)
+}
+
+/// Loads a 3D scalar NRRD file (`encoding: raw`, attached or detached data; types u8, u16,
+/// f32). Returns the dimensions and the values.
+///
+/// # Errors
+/// A missing `NRRD` magic, missing or bad `type`/`dimension`/`sizes`/`encoding` fields, an
+/// unsupported encoding (gzip, ascii…), a data size that does not match, NaN/∞ floats.
+pub fn load_nrrd(path: &Path) -> Result<([usize; 3], Vec<f32>), LoadError> {
+    let bytes = std::fs::read(path).map_err(|e| LoadError::Io(path.to_path_buf(), e))?;
+    if !bytes.starts_with(b"NRRD000") {
+        return Err(bad(path, "not a NRRD file (no NRRD000x magic)"));
+    }
+    // The header ends at the first empty line.
+    let mut end = None;
+    let mut i = 0;
+    while i + 1 < bytes.len() {
+        if bytes[i] == b'\n' && bytes[i + 1] == b'\n' {
+            end = Some((i, i + 2));
+            break;
+        }
+        if i + 2 < bytes.len() && &bytes[i..i + 3] == b"\n\r\n" {
+            end = Some((i, i + 3));
+            break;
+        }
+        i += 1;
+    }
+    let (hdr_end, data_start) = end.unwrap_or((bytes.len(), bytes.len()));
+    let header =
+        std::str::from_utf8(&bytes[..hdr_end]).map_err(|_| bad(path, "header is not text"))?;
+    let mut ty = None;
+    let mut dimension = None;
+    let mut sizes = None;
+    let mut encoding = None;
+    let mut big_endian = false;
+    let mut data_file = None;
+    for line in header.lines().skip(1) {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let Some((key, value)) = line.split_once(':') else {
+            continue; // key:=value lines and others carry nothing we need
+        };
+        let value = value.trim_start_matches('=').trim();
+        match key.trim().to_ascii_lowercase().as_str() {
+            "type" => {
+                ty = Some(ScalarType::parse(value).ok_or_else(|| {
+                    bad(path, format!("unsupported type '{value}' (u8, u16, float)"))
+                })?)
+            }
+            "dimension" => {
+                dimension = Some(
+                    value
+                        .parse::<usize>()
+                        .map_err(|_| bad(path, format!("bad dimension '{value}'")))?,
+                )
+            }
+            "sizes" => {
+                let v: Result<Vec<usize>, _> = value.split_whitespace().map(str::parse).collect();
+                sizes = Some(v.map_err(|_| bad(path, format!("bad sizes '{value}'")))?);
+            }
+            "encoding" => encoding = Some(value.to_ascii_lowercase()),
+            "endian" => big_endian = value.eq_ignore_ascii_case("big"),
+            "data file" | "datafile" => data_file = Some(value.to_string()),
+            _ => {}
+        }
+    }
+    let ty = ty.ok_or_else(|| bad(path, "missing 'type' field"))?;
+    if dimension != Some(3) {
+        return Err(bad(
+            path,
+            format!("need a 3D volume, 'dimension' is {dimension:?}"),
+        ));
+    }
+    let sizes = sizes.ok_or_else(|| bad(path, "missing 'sizes' field"))?;
+    let dims: [usize; 3] = sizes
+        .as_slice()
+        .try_into()
+        .map_err(|_| bad(path, format!("'sizes' has {} entries, need 3", sizes.len())))?;
+    if dims.contains(&0) {
+        return Err(bad(path, "a size is zero"));
+    }
+    match encoding.as_deref() {
+        Some("raw") => {}
+        Some(e) => return Err(bad(path, format!("unsupported encoding '{e}' (only raw)"))),
+        None => return Err(bad(path, "missing 'encoding' field")),
+    }
+    let data = match data_file {
+        Some(f) => {
+            let p = path.parent().unwrap_or(Path::new(".")).join(f);
+            std::fs::read(&p).map_err(|e| LoadError::Io(p, e))?
+        }
+        None => bytes[data_start.min(bytes.len())..].to_vec(),
+    };
+    let count = dims[0]
+        .checked_mul(dims[1])
+        .and_then(|p| p.checked_mul(dims[2]))
+        .ok_or_else(|| bad(path, "sizes overflow"))?;
+    Ok((dims, decode(path, &data, ty, count, big_endian)?))
+}
+
+/// Loads a transfer function: JSON `{"points": [[s, r, g, b, a], ...]}` (or a bare array),
+/// or text with one `s r g b a` line per point (`#` comments allowed). Points must be sorted
+/// by `s`; colors and opacities in `[0, 1]`.
+///
+/// # Errors
+/// Unreadable file, malformed JSON or lines (with the line number), values the core rejects.
+pub fn load_transfer_function(path: &Path) -> Result<Vec<ControlPoint>, LoadError> {
+    let text = std::fs::read_to_string(path).map_err(|e| LoadError::Io(path.to_path_buf(), e))?;
+    let rows: Vec<Vec<f64>> = if text.trim_start().starts_with(['{', '[']) {
+        let v: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| bad(path, format!("bad JSON: {e}")))?;
+        let arr = v
+            .get("points")
+            .unwrap_or(&v)
+            .as_array()
+            .ok_or_else(|| bad(path, "expected an array of points"))?;
+        arr.iter()
+            .enumerate()
+            .map(|(i, p)| {
+                p.as_array()
+                    .and_then(|a| {
+                        a.iter()
+                            .map(serde_json::Value::as_f64)
+                            .collect::<Option<Vec<f64>>>()
+                    })
+                    .ok_or_else(|| bad(path, format!("point {i} is not an array of numbers")))
+            })
+            .collect::<Result<_, _>>()?
+    } else {
+        text.lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
+            .map(|(i, l)| {
+                l.split_whitespace()
+                    .map(|t| t.parse::<f64>())
+                    .collect::<Result<Vec<f64>, _>>()
+                    .map_err(|_| bad(path, format!("line {}: not numbers", i + 1)))
+            })
+            .collect::<Result<_, _>>()?
+    };
+    let points = rows
+        .iter()
+        .enumerate()
+        .map(|(i, r)| match r.as_slice() {
+            [s, cr, cg, cb, a] => Ok(ControlPoint {
+                s: *s as f32,
+                c: [*cr as f32, *cg as f32, *cb as f32],
+                a: *a as f32,
+            }),
+            _ => Err(bad(
+                path,
+                format!("point {i} has {} values, need 5 (s r g b a)", r.len()),
+            )),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    volsample::TransferFunction::<64>::new(&points)
+        .map_err(|e| bad(path, format!("transfer function: {e}")))?;
+    Ok(points)
+}
