@@ -35,6 +35,7 @@
 
 pub mod classify;
 pub mod composite;
+pub mod downsample;
 pub mod error;
 pub mod filter;
 pub mod fixed_point;

@@ -3,10 +3,15 @@
 
 pub mod checks;
 pub mod demo;
+pub mod filters;
 pub mod float_checks;
+pub mod images;
 pub mod int_model;
+pub mod kraus;
 pub mod pipeline;
+pub mod plot;
 pub mod reference;
+pub mod report;
 pub mod scene;
 pub mod strategies;
 pub mod tolerance;

@@ -52,6 +52,7 @@
 pub mod camera;
 pub mod classify;
 pub mod composite;
+pub mod downsample;
 pub mod filter;
 pub mod mode;
 pub mod opacity;

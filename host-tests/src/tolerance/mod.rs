@@ -7,6 +7,7 @@
 //! A bound here is a promise made in the kernel's doc comment; a test that measures a larger
 //! error fails, and the closing notes quote the worst error observed next to the bound.
 
+pub mod downsample;
 /// Integer-kernel bounds (`volsample::fixed_point`), in output LSBs.
 pub mod integer;
 
