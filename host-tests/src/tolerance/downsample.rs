@@ -1,5 +1,5 @@
 //! Downsampling bounds (`volsample::downsample`), absolute errors against the f64 reference
-//! of the same input; `ε = 2⁻²³` ([`EPS32`](super::EPS32)).
+//! of the same input; `ε = 2⁻²³` ([`EPS32`]).
 
 use super::EPS32;
 
