@@ -13,7 +13,7 @@ use crate::sample::Sample;
 /// One front-to-back step: `acc` is in front of `s`.
 ///
 /// Error bound: each output within 2 ulp of 1 of the exact value for the given `f32` input;
-/// over `n` steps the error grows at most linearly, `n·2⁻²³` (`COMPOSITE_STEP_ULP` in the
+/// over `n` steps the error grows at most linearly, `n·3·2⁻²³` (`COMPOSITE_STEP` in the
 /// tests).
 #[inline(always)]
 pub fn front_to_back(acc: Sample, s: Sample) -> Sample {

@@ -49,6 +49,19 @@ fn split(x: f32) -> (isize, f32) {
     (fl as isize, x - fl)
 }
 
+/// `⌊x + ½⌋` (round half up), exactly: `x − ⌊x⌋` is exact in `f32`, `x + ½` is not — for
+/// the `x` one ulp below a half-integer it rounds up to the integer (`0.49999997 + 0.5 = 1`),
+/// which made [`Nearest`] read the wrong voxel.
+#[inline(always)]
+fn round_half_up(x: f32) -> isize {
+    let (i, f) = split(x);
+    if f >= 0.5 {
+        i.saturating_add(1)
+    } else {
+        i
+    }
+}
+
 /// Nearest neighbour: the voxel at `⌊x + ½⌋` per axis (round half up).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -63,7 +76,7 @@ impl Filter for Nearest {
         vol: &Volume<'_, V>,
         pos: [f32; 3],
     ) -> Interp<f32> {
-        let [x, y, z] = pos.map(|p| split(p + 0.5).0);
+        let [x, y, z] = pos.map(round_half_up);
         mode.weighted(&[vol.fetch_clamped(x, y, z)], &[1.0f32])
     }
 }
@@ -73,6 +86,14 @@ pub trait TrilinearOrder: sealed::Sealed + Copy + Default + core::fmt::Debug {
     /// Interpolates the 8 taps of a cell (tap `i` at corner `(i & 1, (i >> 1) & 1, i >> 2)`)
     /// at fractions `f`.
     fn interpolate<T: Num, V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [T; 3]) -> Interp<T>;
+
+    /// [`interpolate`](Self::interpolate) in `f32`: the same arithmetic in the same order
+    /// (bit-identical), by the mode's four-lane [`Mode::weighted8_f32`] where the order uses
+    /// weights.
+    #[inline(always)]
+    fn interpolate_f32<V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [f32; 3]) -> Interp<f32> {
+        Self::interpolate(mode, taps, f)
+    }
 }
 
 /// A binary tree of 7 lerps per interpolated channel.
@@ -97,6 +118,11 @@ impl TrilinearOrder for WeightedSum {
     fn interpolate<T: Num, V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
         mode.weighted(taps, &trilinear_weights(f))
     }
+
+    #[inline(always)]
+    fn interpolate_f32<V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [f32; 3]) -> Interp<f32> {
+        mode.weighted8_f32(taps, &trilinear_weights(f))
+    }
 }
 
 /// The 8 trilinear weights from fractions `[x, y, z]`, indexed like the taps
@@ -110,7 +136,7 @@ impl TrilinearOrder for WeightedSum {
 /// region is reproduced exactly (see the mode module's `dot`).
 ///
 /// Error bound: each weight within `4ε` of its exact value (`ε = 2⁻²³` in `f32`); `w000` may
-/// be `−4ε` where its exact value is 0.
+/// be `−4ε` where its exact value is 0 (`TRILINEAR_WEIGHT_ABS` in the tests).
 #[inline(always)]
 pub fn trilinear_weights<T: Num>(f: [T; 3]) -> [T; 8] {
     let [x, y, z] = f;
@@ -162,8 +188,34 @@ impl<O: TrilinearOrder> Trilinear<O> {
     }
 
     /// The 8 taps of the cell containing `pos` (clamped to the edge) and the fractions.
+    ///
+    /// Bit-identical to [`gather_clamped`](Self::gather_clamped), faster where the whole
+    /// cell lies inside the grid: there `⌊x⌋` is a truncation, the interior test is one
+    /// unsigned compare per axis, and the taps come from [`Volume::cell`] without clamps.
     #[inline(always)]
     pub fn gather<V: Voxel>(vol: &Volume<'_, V>, pos: [f32; 3]) -> ([V; 8], [f32; 3]) {
+        let [nx, ny, nz] = vol.dims();
+        let [x, y, z] = pos;
+        // For `x ≥ +0` the bits of an f32 order like its value, while −0, negatives and NaN
+        // have bits above every positive bound; so this is `+0 ≤ x < n − 1` (every
+        // coordinate below 2²⁴ is exact). −0 takes the clamped path, where its fraction is
+        // `−0 − ⌊−0⌋ = +0`.
+        let inside = |x: f32, n: usize| x.to_bits() < ((n - 1) as f32).to_bits();
+        if inside(x, nx) && inside(y, ny) && inside(z, nz) {
+            // `x as i32` truncates, which is `⌊x⌋` for `0 ≤ x < 2²⁴` (and is cheaper than a
+            // saturating cast to `usize`); the fraction is then exactly `x − ⌊x⌋`.
+            let (xi, yi, zi) = (x as i32, y as i32, z as i32);
+            if let Some(taps) = vol.cell(xi as usize, yi as usize, zi as usize) {
+                return (taps, [x - xi as f32, y - yi as f32, z - zi as f32]);
+            }
+        }
+        Self::gather_clamped(vol, pos)
+    }
+
+    /// [`gather`](Self::gather) by the plain path: `⌊x⌋` by `floorf`, every tap clamped to
+    /// the edge (the reference the fast path is tested against).
+    #[inline(always)]
+    pub fn gather_clamped<V: Voxel>(vol: &Volume<'_, V>, pos: [f32; 3]) -> ([V; 8], [f32; 3]) {
         let (x, fx) = split(pos[0]);
         let (y, fy) = split(pos[1]);
         let (z, fz) = split(pos[2]);
@@ -196,7 +248,7 @@ impl<O: TrilinearOrder> Filter for Trilinear<O> {
         pos: [f32; 3],
     ) -> Interp<f32> {
         let (taps, f) = Self::gather(vol, pos);
-        O::interpolate(mode, &taps, f)
+        O::interpolate_f32(mode, &taps, f)
     }
 }
 
@@ -227,7 +279,7 @@ impl Filter for TriquadraticBSpline {
         let mut base = [0isize; 3];
         let mut w = [[0.0f32; 3]; 3];
         for ((b, w), p) in base.iter_mut().zip(w.iter_mut()).zip(pos) {
-            let (i, _) = split(p + 0.5);
+            let i = round_half_up(p);
             *b = i;
             *w = bspline2_weights(p - i as f32);
         }

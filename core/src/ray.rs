@@ -34,8 +34,23 @@ fn finite(a: V3) -> bool {
 }
 /// `a/|a|`, or `None` for a zero or non-finite vector.
 fn normalize(a: V3) -> Option<V3> {
+    if !finite(a) {
+        return None;
+    }
     let n = norm(a);
-    (finite(a) && n.is_finite() && n > 0.0).then(|| scale(a, 1.0 / n))
+    if n.is_finite() && n > 1.0e-18 && n < 1.0e18 {
+        return Some(scale(a, 1.0 / n));
+    }
+    // `|a|²` overflowed or (nearly) underflowed: every finite non-zero vector has a direction,
+    // so divide by the largest component first (then `1 ≤ |a| ≤ √3`). Without this a finite
+    // direction such as `[1e20, 0, 0]` or `[1e-30, 0, 0]` was rejected as invalid.
+    let m = a.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+    if m > 0.0 {
+        let b = a.map(|x| x / m);
+        Some(scale(b, 1.0 / norm(b)))
+    } else {
+        None
+    }
 }
 
 /// A ray `origin + t·dir`, `t ≥ 0`, with a unit direction.

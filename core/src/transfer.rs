@@ -74,8 +74,10 @@ impl<const N: usize> TransferFunction<N> {
 
     /// Straight color and opacity at `s`.
     ///
-    /// Error bound: each output within 2 ulp (relative to 1) of the exact piecewise-linear
-    /// value. NaN `s` gives the first point's values.
+    /// Error bound: each output within `3ε + 2ε·L·m` of the exact piecewise-linear value,
+    /// `ε = 2⁻²³`, `L` the segment's slope and `m` the largest magnitude among `s` and the
+    /// segment's end points (the rounding of `s − s_lo`; `TF_EVAL_BASE`, `TF_EVAL_PER_SLOPE` in
+    /// the tests). NaN `s` gives the first point's values.
     #[inline]
     pub fn eval(&self, s: f32) -> ([f32; 3], f32) {
         let i = self.points.partition_point(|p| p.s <= s);

@@ -51,6 +51,14 @@ pub trait Voxel: Copy {
 pub trait StraightVoxel: Voxel {
     /// Straight color `C` and opacity `α`, each in `[0, 1]`.
     fn straight<T: Num>(self) -> ([T; 3], T);
+
+    /// [`straight`](Self::straight) in `f32` as `[C_r, C_g, C_b, α]`: the same values, in
+    /// the four-lane form of [`Mode::weighted8_f32`](crate::Mode::weighted8_f32).
+    #[inline(always)]
+    fn straight4(self) -> [f32; 4] {
+        let ([r, g, b], a) = self.straight::<f32>();
+        [r, g, b, a]
+    }
 }
 
 /// A voxel holding associated (opacity-weighted, premultiplied) color and opacity.
@@ -135,8 +143,11 @@ impl StraightVoxel for StraightF32 {
 }
 
 /// Straight RGBA bytes, each read as `n/255` (the storage Wittenbrink recommends).
+///
+/// `#[repr(transparent)]` over `[u8; 4]`: a C array of `uint8_t[4]` has the same layout.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(transparent)]
 pub struct StraightU8(pub [u8; 4]);
 
 impl Voxel for StraightU8 {
@@ -154,6 +165,11 @@ impl StraightVoxel for StraightU8 {
             [r, g, b].map(|n| T::from_f32(unorm8(n))),
             T::from_f32(unorm8(a)),
         )
+    }
+
+    #[inline(always)]
+    fn straight4(self) -> [f32; 4] {
+        self.0.map(unorm8)
     }
 }
 
@@ -204,9 +220,10 @@ impl AssociatedVoxel for AssociatedF32 {
 /// Associated RGBA bytes (Drebin-style premultiplied storage), each read as `n/255`.
 ///
 /// Storing `C̃` in 8 bits loses color where `α` is small: see the integer module for the
-/// bound on the recovered color.
+/// bound on the recovered color. `#[repr(transparent)]` over `[u8; 4]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(transparent)]
 pub struct AssociatedU8(pub [u8; 4]);
 
 impl Voxel for AssociatedU8 {
@@ -247,7 +264,8 @@ impl ExtinctionF32 {
     /// `τ = −ln(1 − α)/d′` with the optical depth capped at [`MAX_OPTICAL_DEPTH`]
     /// (so `α = 1` gives a finite `τ`), and `C^τ = τ·C`.
     ///
-    /// Error bound: `τ` within 2 ulp of `−ln1p(−α)/d′` for the given `f32` `α`.
+    /// Error bound: `τ` within relative `2ε` (`ε = 2⁻²³`) of `−ln(1 − α)/d′` for the given
+    /// `f32` `α`, below the cap (`FROM_STRAIGHT_TAU_REL` in the tests).
     /// A non-finite or non-positive `d_ref` gives `τ = 0` (the volume constructor rejects such
     /// a distance before it could reach here).
     pub fn from_straight(v: StraightF32, d_ref: f32) -> Self {

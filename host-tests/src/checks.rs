@@ -4,9 +4,11 @@
 //! invariant of an integer kernel is broken.
 
 use arbitrary::{Arbitrary, Unstructured};
+use std::sync::OnceLock;
 use volsample::fixed_point::{
-    composite_front_to_back, premultiply, premultiply_voxel, unpremultiply, IntMode, IntPos,
-    IntSample, IntSampler, IntStop, ONE,
+    composite_front_to_back, premultiply, premultiply_voxel, unpremultiply, ExtinctionFx,
+    ExtinctionTables, IntExtinction, IntMode, IntPos, IntRatio, IntSample, IntSampler, IntStop,
+    ONE,
 };
 use volsample::mode::Mode;
 use volsample::sample::Interp;
@@ -15,7 +17,9 @@ use volsample::{
     Trilinear, Volume,
 };
 
-use crate::int_model::{self, composite as cm, premul as pm, sample as sm, Modelled};
+use crate::int_model::{
+    self, composite as cm, extinction as em, premul as pm, sample as sm, Modelled,
+};
 use crate::tolerance::integer as tol;
 
 /// The fuzz targets, by name (`fuzz/fuzz_targets/<name>.rs`, corpus in `fuzz/corpus/<name>/`).
@@ -479,7 +483,7 @@ pub fn composite(inp: &CompositeInput) -> Result<(), String> {
 }
 
 /// Input of the `extinction` check: raw `f32` bits of `τ` (any value: 0, subnormal, huge, ∞,
-/// NaN) and of the step `d`, and straight color bytes.
+/// NaN) and of the step `d`, and straight color bytes; then a cell for the integer kernel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Arbitrary)]
 pub struct ExtinctionInput {
     /// `τ` as `f32` bits.
@@ -488,11 +492,223 @@ pub struct ExtinctionInput {
     pub d_bits: u32,
     /// Straight color bytes.
     pub color: [u8; 3],
+    /// The integer kernel's cell (its ratio is `d/d′` with `d′ = 1`).
+    pub int: ExtinctionCell,
+}
+
+/// Table sizes the `extinction` check exercises (`table_sel mod 4`).
+pub const EXTINCTION_TABLE_SIZES: [usize; 4] = [17, 65, 257, 1025];
+
+/// One integer `ExtinctionWeighted` sample of a 2×2×2 cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Arbitrary)]
+pub struct ExtinctionCell {
+    /// Straight voxels `[r, g, b, a]`, converted with `ExtinctionFx::from_straight_u8`.
+    pub voxels: [[u8; 4]; 8],
+    /// Raw `[τ, C^τ_r, C^τ_g, C^τ_b]` for voxels 0 and 1, used instead of the conversion when
+    /// `τ ≠ 0` (reduced into range: `τ mod (MAX_DEPTH_RAW + 1)`, each `C^τ mod (τ + 1)`).
+    pub raw: [[u32; 4]; 2],
+    /// Raw fractions (only the low `F` bits are used).
+    pub frac: [u32; 3],
+    /// Selects `F = 4 + sel mod 9`.
+    pub frac_bits_sel: u8,
+    /// Trilinear (`true`) or nearest.
+    pub trilinear: bool,
+    /// Selects the table size from [`EXTINCTION_TABLE_SIZES`].
+    pub table_sel: u8,
+}
+
+impl ExtinctionCell {
+    /// `F` for this input.
+    pub fn frac_bits(&self) -> u32 {
+        4 + u32::from(self.frac_bits_sel) % 9
+    }
+
+    /// The table size.
+    pub fn table_size(&self) -> usize {
+        EXTINCTION_TABLE_SIZES[usize::from(self.table_sel % 4)]
+    }
+
+    /// The stored voxels, and whether all of them came from the straight bytes.
+    pub fn stored(&self) -> ([ExtinctionFx; 8], bool) {
+        let mut converted = true;
+        let mut out = self
+            .voxels
+            .map(|v| ExtinctionFx::from_straight_u8(StraightU8(v)));
+        for (o, r) in out.iter_mut().zip(self.raw) {
+            if r[0] != 0 {
+                let tau = r[0] % (em::MAX_DEPTH_RAW + 1);
+                *o = ExtinctionFx {
+                    tau,
+                    c_tau: [r[1] % (tau + 1), r[2] % (tau + 1), r[3] % (tau + 1)],
+                };
+                converted = false;
+            }
+        }
+        (out, converted)
+    }
+
+    /// The taps the sample reads and their real and integer weights (shift `3F`, or 0 for
+    /// nearest), with the index of each tap in the cell.
+    pub fn taps(&self) -> (Vec<usize>, Vec<f64>, Vec<u128>, u32) {
+        let f = self.frac_bits();
+        let m = (1u32 << f) - 1;
+        let frac = self.frac.map(|x| x & m);
+        if self.trilinear {
+            (
+                (0..8).collect(),
+                int_model::trilinear_weights(f, frac).to_vec(),
+                em::int_weights(f, frac).to_vec(),
+                3 * f,
+            )
+        } else {
+            let half = 1u32 << (f - 1);
+            let idx = frac.map(|x| usize::from(x >= half));
+            (
+                vec![idx[0] + 2 * (idx[1] + 2 * idx[2])],
+                vec![1.0],
+                vec![1],
+                0,
+            )
+        }
+    }
+}
+
+macro_rules! cached_tables {
+    ($($name:ident: $n:literal),*) => {
+        $(
+            fn $name() -> &'static ExtinctionTables<$n> {
+                static T: OnceLock<ExtinctionTables<$n>> = OnceLock::new();
+                T.get_or_init(ExtinctionTables::new)
+            }
+        )*
+    };
+}
+cached_tables!(tables_17: 17, tables_65: 65, tables_257: 257, tables_1025: 1025);
+
+/// The model's tables for each size in [`EXTINCTION_TABLE_SIZES`], built once.
+pub fn model_tables(n: usize) -> &'static em::Tables {
+    static T: OnceLock<Vec<em::Tables>> = OnceLock::new();
+    let all = T.get_or_init(|| {
+        EXTINCTION_TABLE_SIZES
+            .iter()
+            .map(|&n| em::tables(n))
+            .collect()
+    });
+    let i = EXTINCTION_TABLE_SIZES
+        .iter()
+        .position(|&m| m == n)
+        .expect("a checked size");
+    &all[i]
+}
+
+fn extinction_kernel<const F: u32, const N: usize>(
+    cell: &ExtinctionCell,
+    data: &[ExtinctionFx; 8],
+    tables: &ExtinctionTables<N>,
+    ratio: f32,
+) -> Result<IntSample, String> {
+    let m = (1u32 << F) - 1;
+    let pos = IntPos::<F>::from_raw(cell.frac.map(|f| f & m));
+    let vol = Volume::new(&data[..], [2, 2, 2]).map_err(|e| e.to_string())?;
+    let mode = IntExtinction::new(tables, ratio).map_err(|e| e.to_string())?;
+    Ok(if cell.trilinear {
+        IntSampler::new(vol, mode, Trilinear::new()).sample(pos)
+    } else {
+        IntSampler::new(vol, mode, Nearest).sample(pos)
+    })
+}
+
+/// The integer `ExtinctionWeighted` sample of `cell` at ratio `ratio` (dispatching on `F`
+/// and the table size).
+///
+/// # Errors
+/// If the ratio is not valid for the integer kernel.
+pub fn extinction_sample(cell: &ExtinctionCell, ratio: f32) -> Result<IntSample, String> {
+    let (data, _) = cell.stored();
+    with_frac_bits!(cell.frac_bits_sel, F => match cell.table_size() {
+        17 => extinction_kernel::<F, 17>(cell, &data, tables_17(), ratio),
+        65 => extinction_kernel::<F, 65>(cell, &data, tables_65(), ratio),
+        257 => extinction_kernel::<F, 257>(cell, &data, tables_257(), ratio),
+        _ => extinction_kernel::<F, 1025>(cell, &data, tables_1025(), ratio),
+    })
+}
+
+/// Errors of one integer extinction sample, in U8.8 LSB: against the exact method on the
+/// stored voxels (`C̃`, `α`), and against the `f64` reference on the straight voxels when
+/// every voxel came from them.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ExtinctionErrors {
+    /// Worst `C̃` error against the exact method.
+    pub c: f64,
+    /// `α` error against the exact method.
+    pub a: f64,
+    /// Worst `C̃` and `α` error against the reference (`None` with raw voxels).
+    pub reference: Option<(f64, f64)>,
+}
+
+/// `extinction` (integer part): the kernel agrees bit for bit with its model, keeps
+/// `C̃ ≤ α ≤ ONE`, and is within its stated bounds of the exact method on the stored voxels
+/// and (plus the storage term) of the `f64` reference on the straight voxels.
+///
+/// # Errors
+/// Which of these failed, with the values.
+pub fn extinction_int(cell: &ExtinctionCell, ratio: f32) -> Result<ExtinctionErrors, String> {
+    if IntRatio::new(ratio).is_err() {
+        return Ok(ExtinctionErrors::default());
+    }
+    let got = extinction_sample(cell, ratio)?;
+    invariant(&got, "extinction kernel")?;
+    let (data, converted) = cell.stored();
+    for (d, v) in data.iter().zip(cell.voxels) {
+        if converted && (d.tau, d.c_tau) != em::from_u8(v) {
+            return Err(format!(
+                "conversion of {v:?}: {d:?} != model {:?}",
+                em::from_u8(v)
+            ));
+        }
+    }
+    let (idx, w, wi, shift) = cell.taps();
+    let taps: Vec<(u32, [u32; 3])> = idx.iter().map(|&i| (data[i].tau, data[i].c_tau)).collect();
+    let n = cell.table_size();
+    let r_raw = em::ratio_raw(ratio);
+    let (mc, ma) = em::kernel(&taps, &wi, shift, r_raw, model_tables(n));
+    if (got.c(), got.a()) != (mc, ma) {
+        return Err(format!(
+            "kernel {got:?} != model {mc:?}/{ma} for {cell:?}, r = {ratio:e}"
+        ));
+    }
+    let r = f64::from(ratio);
+    let (ec, ea) = em::exact(&taps, &w, r);
+    let (bc, ba) = (tol::extinction_int_c_lsb(n), tol::extinction_int_a_lsb(n));
+    let mut errs = ExtinctionErrors {
+        a: (f64::from(got.a()) - ea).abs(),
+        ..Default::default()
+    };
+    within("extinction α vs exact", f64::from(got.a()), ea, ba)?;
+    for (g, e) in got.c().iter().zip(ec) {
+        errs.c = errs.c.max((f64::from(*g) - e).abs());
+        within("extinction C̃ vs exact", f64::from(*g), e, bc)?;
+    }
+    if converted {
+        let straight: Vec<[u8; 4]> = idx.iter().map(|&i| cell.voxels[i]).collect();
+        let (rc, ra) = em::reference(&straight, &w, r);
+        let (sa, sc) = tol::extinction_int_storage_lsb(r);
+        let ea = (f64::from(got.a()) - ra).abs();
+        within("extinction α vs reference", f64::from(got.a()), ra, ba + sa)?;
+        let mut ec = 0.0f64;
+        for (g, e) in got.c().iter().zip(rc) {
+            ec = ec.max((f64::from(*g) - e).abs());
+            within("extinction C̃ vs reference", f64::from(*g), e, bc + sc)?;
+        }
+        errs.reference = Some((ec, ea));
+    }
+    Ok(errs)
 }
 
 /// `extinction`: for every `τ ≥ 0` (including subnormal, huge and ∞; NaN and negatives are
 /// read as 0) and every finite `d > 0`, one step of the float extinction kernel gives finite
-/// values with `0 ≤ C̃ ≤ α ≤ 1`.
+/// values with `0 ≤ C̃ ≤ α ≤ 1`; and the integer kernel on the input's cell at ratio `d`
+/// passes [`extinction_int`].
 ///
 /// # Errors
 /// The non-finite or out-of-range output.
@@ -518,5 +734,5 @@ pub fn extinction(inp: &ExtinctionInput) -> Result<(), String> {
     if !s.is_valid() {
         return Err(format!("τ = {tau:e}, d = {d:e}: invalid sample {s:?}"));
     }
-    Ok(())
+    extinction_int(&inp.int, d).map(|_| ())
 }

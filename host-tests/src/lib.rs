@@ -3,6 +3,7 @@
 
 pub mod checks;
 pub mod demo;
+pub mod edge_cases;
 pub mod filters;
 pub mod float_checks;
 pub mod images;
@@ -15,6 +16,7 @@ pub mod report;
 pub mod scene;
 pub mod strategies;
 pub mod tolerance;
+pub mod vectors;
 
 #[cfg(doctest)]
 #[doc = include_str!("../../README.md")]

@@ -98,6 +98,26 @@ enum Command {
         #[arg(long, default_value = "kraus-out")]
         out: PathBuf,
     },
+    /// Reference vectors of an integer kernel for HDL test benches: $readmemh-readable
+    /// inputs.hex and expected.hex plus manifest.json (see `volsample_host::vectors`).
+    Vectors {
+        /// opacity-weighted-{nearest,trilinear}, separate-{nearest,trilinear},
+        /// preweighted-{nearest,trilinear}, composite-front-to-back, opacity-correction.
+        #[arg(long)]
+        kernel: String,
+        /// Number of vectors (corner cases first, then random).
+        #[arg(long, default_value_t = 10_000)]
+        count: usize,
+        /// Seed of the SplitMix64 generator.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Fractional position bits F of the sampling kernels (4..=12).
+        #[arg(long, default_value_t = 8)]
+        frac_bits: u32,
+        /// Output directory (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 fn find_scene(name: &str) -> Result<Scene, String> {
@@ -295,6 +315,15 @@ fn run() -> Result<(), String> {
             .map_err(|e| e.to_string()),
         Command::Filters { levels } => volsample_host::filters::run(levels),
         Command::Kraus { out } => volsample_host::kraus::run(&out),
+        Command::Vectors {
+            kernel,
+            count,
+            seed,
+            frac_bits,
+            out,
+        } => volsample_host::vectors::run(&kernel, count, seed, frac_bits, &out)
+            .map(|s| println!("{s}"))
+            .map_err(|e| e.to_string()),
     }
 }
 

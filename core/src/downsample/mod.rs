@@ -59,6 +59,7 @@
 mod chain;
 mod extinction_based;
 mod filter4;
+pub mod integer;
 mod level;
 mod mip;
 mod opacity_based;

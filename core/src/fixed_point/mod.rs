@@ -9,6 +9,9 @@
 //! | sample position | [`IntPos<F>`]: `u32` per axis, `F` fractional bits | `raw/2^F` voxel units |
 //! | trilinear weight | `u64`, exact product `(2^F − f)·…·f`, `3F` bits | weights sum to `2^(3F)` exactly |
 //! | sample, accumulator | [`IntSample`]: `u16` per channel, U8.8 | `raw/256` u8 levels; opacity 1 is [`ONE`] `= 255·256` |
+//! | extinction voxel | [`ExtinctionFx`]: `u32` U7.20 per field | optical depth per `d′`, `D = τ·d′ ≤ 64`, and `D·C` |
+//! | step ratio `d/d′` | [`IntRatio`]: `u64`, 32 fractional bits | `raw/2^32` |
+//! | `φ`, `e^(−x)` tables | [`ExtinctionTables<N>`]: `u32`, 31 fractional bits | see [`exp_phi`] |
 //!
 //! A U8.8 value is a u8 level with 8 more fractional bits, so a voxel byte `n` is the
 //! sample value `256·n` exactly, the output byte is `⌊raw/256 + ½⌋`, and the extra bits keep
@@ -49,15 +52,21 @@
 
 pub mod composite;
 pub mod correction;
+pub mod exp_phi;
+pub mod extinction;
 pub mod opacity_weighted;
 pub mod premul;
 pub mod preweighted;
+pub mod ray_marcher;
 pub mod separate;
 pub mod weights;
 
 pub use composite::{composite_front_to_back, front_to_back, IntStop};
 pub use correction::IntCorrection;
+pub use exp_phi::{ExtinctionTables, IntRatio};
+pub use extinction::{ExtinctionFx, IntExtinction};
 pub use premul::{premultiply, premultiply_voxel, unpremultiply};
+pub use ray_marcher::IntRayMarcher;
 pub use weights::{nearest_index, trilinear_weights, IntWeights};
 
 use crate::error::Error;
@@ -211,7 +220,9 @@ impl<const F: u32> IntPos<F> {
         let mut raw = [0u32; 3];
         for (r, &x) in raw.iter_mut().zip(pos.iter()) {
             // f64 holds x·2^F + ½ exactly for every f32 x below 2^32.
-            let v = libm::floor(f64::from(x) * f64::from(1u32 << F) + 0.5);
+            let v = f64::from(x) * f64::from(1u32 << F) + 0.5;
+            // `⌊v⌋` lies in `[0, 2^32)` exactly when `v` does (NaN fails), and there the
+            // truncating cast is `⌊v⌋`: no call to `floor` on the hot path.
             if !(0.0..4_294_967_296.0).contains(&v) {
                 return Err(Error::InvalidPosition);
             }
@@ -343,8 +354,24 @@ pub(crate) mod sealed {
 /// Implemented for [`OpacityWeighted`](crate::OpacityWeighted) and
 /// [`Separate`](crate::Separate) over [`StraightU8`](crate::StraightU8), and for
 /// [`Preweighted`](crate::Preweighted) over [`AssociatedU8`](crate::AssociatedU8): the same
-/// zero-sized mode types the float kernels use. Sealed.
+/// zero-sized mode types the float kernels use; and for [`IntExtinction`] over
+/// [`ExtinctionFx`]. Sealed.
 pub trait IntMode<V: Voxel>: sealed::Sealed + Copy + core::fmt::Debug {
+    /// `true` for the modes whose samples hold for the reference distance `d′` and need
+    /// [`IntCorrection`] when the step differs; `false` for [`IntExtinction`], which
+    /// integrates over the step itself.
+    const OPACITY_BASED: bool = true;
+
+    /// The mode configured for the step ratio `d/d′` (the identity for the opacity-based
+    /// modes; [`IntExtinction`] takes the ratio).
+    ///
+    /// # Errors
+    /// [`Error::InvalidStep`] where the mode cannot use the ratio.
+    fn for_step_ratio(self, ratio: f32) -> Result<Self, Error> {
+        let _ = ratio;
+        Ok(self)
+    }
+
     /// Combines `K` taps with integer weights (summing to exactly `2^shift`, `shift ≤ 36`,
     /// guaranteed by [`IntWeights`]) into an associated U8.8 sample.
     fn combine<const K: usize>(&self, taps: &[V; K], w: &IntWeights<K>) -> IntSample;
@@ -392,6 +419,13 @@ impl IntFilter for Trilinear<WeightedSum> {
         vol: &Volume<'_, V>,
         pos: IntPos<F>,
     ) -> IntSample {
+        // Interior fast path: the whole cell inside the grid, no clamps (same taps).
+        let [xi, yi, zi] = pos
+            .index()
+            .map(|i| usize::try_from(i).unwrap_or(usize::MAX));
+        if let Some(taps) = vol.cell(xi, yi, zi) {
+            return mode.combine(&taps, &IntWeights::trilinear(pos));
+        }
         let [x, y, z] = pos.index().map(to_isize);
         let (x1, y1, z1) = (
             x.saturating_add(1),
@@ -416,7 +450,7 @@ impl IntFilter for Trilinear<WeightedSum> {
 /// position bits.
 ///
 /// Error bound: that of the mode's kernel ([`opacity_weighted`], [`separate`],
-/// [`preweighted`]) for the filter's weights at the quantized position.
+/// [`preweighted`], [`extinction`]) for the filter's weights at the quantized position.
 #[derive(Debug, Clone, Copy)]
 pub struct IntSampler<'a, V, M, Fl> {
     vol: Volume<'a, V>,

@@ -1,6 +1,6 @@
 //! `ExtinctionWeighted`: extinction-based sampling (Kraus, Bürger 2008, eqs. 18–23).
 
-use super::{linear_tree, linear_weighted, sealed, Mode};
+use super::{linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
 use crate::num::Num;
 use crate::opacity::phi;
 use crate::sample::{Interp, Sample};
@@ -13,8 +13,10 @@ use crate::voxel::ExtinctionVoxel;
 /// `C^τ·d`); for `τd ≥ 1`, `C̃ = (C^τ/τ)·α` (no `∞·0` when `τd` overflows). `α` is
 /// `−expm1(−τd)` throughout. No opacity correction is ever needed: the step enters here.
 ///
-/// Error bound (f32 against the f64 reference): `α` and each `C̃` within
-/// `2e-6·(1 + taps/8)` (`EXTINCTION_F32` in the tests' tolerance table).
+/// Error bound (f32 against the f64 reference on the same stored values, any step `d`): `α`
+/// and each `C̃` within `(1 + taps·(1 + d·τ_max))·ε`, `ε = 2⁻²³`, `τ_max` the largest stored
+/// `τ` among the taps (the interpolated `τ` is within `taps·ε·τ_max`, and `|∂α/∂τ| ≤ d`;
+/// `tolerance::sample_bound` in the tests).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ExtinctionWeighted;
@@ -27,6 +29,15 @@ impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
         linear_weighted(&taps.map(|v| v.extinction::<T>()), w)
+    }
+
+    #[inline(always)]
+    fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
+        let u = taps.map(|v| {
+            let ([r, g, b], a) = v.extinction::<f32>();
+            [r, g, b, a]
+        });
+        linear_weighted8_f32(&u, w)
     }
 
     #[inline(always)]
@@ -43,8 +54,8 @@ impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
 /// One step of the emission–absorption integral with constant `C^τ` and `τ` over length `d`:
 /// `α = 1 − e^(−τd)`, `C̃ = C^τ·α/τ` in the stable forms of [`ExtinctionWeighted`].
 ///
-/// Error bound: `α` and each `C̃` within 6 ulp of 1 of the exact value for the given `f32`
-/// input (`INTEGRATE_STEP_MAX_ERR` in the tests). Negative or NaN `τ` is read as 0.
+/// Error bound: `α` and each `C̃` within `6ε` (`ε = 2⁻²³`) of the exact value for the given
+/// `f32` input (`INTEGRATE_STEP_ABS` in the tests). Negative or NaN `τ` is read as 0.
 #[inline]
 pub fn integrate_step(c_tau: [f32; 3], tau: f32, d: f32) -> Sample {
     let tau = tau.max(0.0);

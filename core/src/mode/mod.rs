@@ -20,7 +20,7 @@ mod post_classified;
 mod preweighted;
 mod separate;
 
-pub use extinction::ExtinctionWeighted;
+pub use extinction::{integrate_step, ExtinctionWeighted};
 pub use opacity_weighted::OpacityWeighted;
 pub use post_classified::PostClassified;
 pub use preweighted::Preweighted;
@@ -45,6 +45,16 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
 
     /// Interpolates `K` taps as a sum of weighted products (weights `w`, summing to 1).
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T>;
+
+    /// [`weighted`](Self::weighted) in `f32` for the 8 taps of a trilinear cell: the same
+    /// operations in the same order, so bit-identical, written over four lanes
+    /// `(c₀, c₁, c₂, a)` per tap, the shape a SIMD kernel needs (the float ray marcher's hot
+    /// path; on baseline x86-64 the compiler still emits scalar code for it). The default is
+    /// `weighted` itself.
+    #[inline(always)]
+    fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
+        self.weighted(taps, w)
+    }
 
     /// Interpolates the 8 taps of a trilinear cell as a binary tree of lerps with fractions
     /// `f = [fx, fy, fz]`; tap `i` is the corner `(i & 1, (i >> 1) & 1, i >> 2)`.
@@ -79,6 +89,30 @@ pub(crate) fn sum<T: Num, const K: usize>(xs: &[T; K]) -> T {
         Some(x0) => it.fold(*x0, |acc, x| acc + *x),
         None => T::ZERO,
     }
+}
+
+/// `Σ w_i·u_i` over four lanes per tap, summed from the last tap down like [`dot`]: lane `k`
+/// of the result is bit-identical to `dot(w, u, |u| u[k])`.
+#[inline(always)]
+pub(crate) fn dot_lanes8(w: &[f32; 8], u: &[[f32; 4]; 8]) -> [f32; 4] {
+    let mut it = w.iter().zip(u.iter()).rev();
+    let mut acc = [0.0f32; 4];
+    if let Some((w7, u7)) = it.next() {
+        acc = u7.map(|x| *w7 * x);
+    }
+    for (w, u) in it {
+        for (a, x) in acc.iter_mut().zip(u.iter()) {
+            *a += *w * *x;
+        }
+    }
+    acc
+}
+
+/// [`linear_weighted`] in `f32` over lanes `(c₀, c₁, c₂, a)`: bit-identical.
+#[inline(always)]
+pub(crate) fn linear_weighted8_f32(u: &[[f32; 4]; 8], w: &[f32; 8]) -> Interp<f32> {
+    let [c0, c1, c2, a] = dot_lanes8(w, u);
+    Interp { c: [c0, c1, c2], a }
 }
 
 /// `a + t·(b − a)`: 1M 2A.

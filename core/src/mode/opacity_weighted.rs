@@ -1,6 +1,6 @@
 //! `OpacityWeighted`: opacity-weighted color interpolation (Wittenbrink, Malzbender, Goss 1998).
 
-use super::{dot, lerp8, sealed, sum, Mode};
+use super::{dot, dot_lanes8, lerp8, sealed, sum, Mode};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::StraightVoxel;
@@ -13,8 +13,10 @@ use crate::voxel::StraightVoxel;
 /// as [`Separate`](super::Separate) (36M 47A for trilinear); as a lerp tree it first
 /// premultiplies the 8 colors (52M 56A).
 ///
-/// Error bound (f32 against the f64 reference): `α` and each `C̃` within
-/// `4e-7·(1 + taps/8)` (`OPACITY_WEIGHTED_F32` in the tests' tolerance table).
+/// Error bound (f32 against the f64 reference on the same stored values, at `d = d′`): `α` and
+/// each `C̃` within `(1 + taps)·ε`, `ε = 2⁻²³` (`tolerance::sample_bound` in the tests).
+/// Where every tap is opaque, `α = 1` exactly (the filter weights are an exact partition of
+/// unity). Opacity correction adds the error of [`correct`](crate::opacity::correct).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct OpacityWeighted;
@@ -42,6 +44,21 @@ impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
             ],
             a,
         }
+    }
+
+    #[inline(always)]
+    fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
+        // Lanes (C_r, C_g, C_b, 1) weighted by ω_i = w_i·α_i: the colors are `dot(ω, C)` and
+        // the last lane is `Σ ω_i` in the same order (ω·1 = ω exactly), as in `weighted`.
+        let mut omega = *w;
+        let mut u = [[0.0f32; 4]; 8];
+        for ((o, l), v) in omega.iter_mut().zip(u.iter_mut()).zip(taps.iter()) {
+            let [r, g, b, a] = v.straight4();
+            *o *= a;
+            *l = [r, g, b, 1.0];
+        }
+        let [c0, c1, c2, a] = dot_lanes8(&omega, &u);
+        Interp { c: [c0, c1, c2], a }
     }
 
     #[inline(always)]

@@ -9,9 +9,9 @@ use crate::voxel::ScalarVoxel;
 /// Interpolates the scalar, then applies the transfer function:
 /// `(C, α) = TF(Σ w s)`, `C̃ = α·C` (Wittenbrink table 2, method 1).
 ///
-/// Error bound (f32 against the f64 reference): `α` and each `C̃` within
-/// `L·|Δs| + 4e-7` where `|Δs| ≤ 4e-7·s_max·(1 + taps/8)` is the scalar's rounding error and
-/// `L` the transfer function's largest slope (`POST_CLASSIFIED_F32` in the tolerance table).
+/// Error bound (f32 against the f64 reference, at `d = d′`): `α` and each `C̃` within
+/// `3ε + L·taps·ε·s_max`, `ε = 2⁻²³`, where `L` is the transfer function's steepest slope and
+/// `s_max` the largest scalar magnitude (`tolerance::sample_bound` in the tests).
 #[derive(Debug, Clone, Copy)]
 pub struct PostClassified<'t, const N: usize> {
     tf: &'t TransferFunction<N>,

@@ -1,6 +1,6 @@
 //! `Preweighted`: interpolation of stored associated colors (Drebin 1988).
 
-use super::{linear_tree, linear_weighted, sealed, Mode};
+use super::{linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::AssociatedVoxel;
@@ -11,8 +11,8 @@ use crate::voxel::AssociatedVoxel;
 /// is stored in few bits ([`AssociatedU8`](crate::AssociatedU8)), because the color of a
 /// voxel with small `α` is rounded to a few levels before it is ever interpolated.
 ///
-/// Error bound (f32 against the f64 reference on the same stored values): `α` and each `C̃`
-/// within `4e-7·(1 + taps/8)` (`PREWEIGHTED_F32` in the tests' tolerance table).
+/// Error bound (f32 against the f64 reference on the same stored values, at `d = d′`): `α` and
+/// each `C̃` within `(1 + taps)·ε`, `ε = 2⁻²³` (`tolerance::sample_bound` in the tests).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Preweighted;
@@ -25,6 +25,15 @@ impl<V: AssociatedVoxel> Mode<V> for Preweighted {
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
         linear_weighted(&taps.map(|v| v.associated::<T>()), w)
+    }
+
+    #[inline(always)]
+    fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
+        let u = taps.map(|v| {
+            let ([r, g, b], a) = v.associated::<f32>();
+            [r, g, b, a]
+        });
+        linear_weighted8_f32(&u, w)
     }
 
     #[inline(always)]

@@ -1,6 +1,6 @@
 //! `Separate`: color and opacity interpolated independently (Levoy 1988/1990).
 
-use super::{linear_tree, linear_weighted, sealed, Mode};
+use super::{linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
 use crate::num::Num;
 use crate::sample::{clamp01, Interp, Sample};
 use crate::voxel::StraightVoxel;
@@ -11,8 +11,9 @@ use crate::voxel::StraightVoxel;
 /// This is the common method Wittenbrink shows to be wrong: a transparent voxel's color leaks
 /// into the sample (red air bleeds, black air darkens). Kept as the baseline.
 ///
-/// Error bound (f32 against the f64 reference, any filter): `α` within `4e-7·(1 + taps/8)` and
-/// each `C̃` within twice that (`SEPARATE_F32` in the tests' tolerance table).
+/// Error bound (f32 against the f64 reference on the same stored values, at `d = d′`): `α` and
+/// each `C̃` within `(1 + taps)·ε`, `ε = 2⁻²³` (`tolerance::sample_bound` in the tests).
+/// Opacity correction adds the error of [`correct`](crate::opacity::correct).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Separate;
@@ -25,6 +26,11 @@ impl<V: StraightVoxel> Mode<V> for Separate {
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
         linear_weighted(&taps.map(|v| v.straight::<T>()), w)
+    }
+
+    #[inline(always)]
+    fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
+        linear_weighted8_f32(&taps.map(|v| v.straight4()), w)
     }
 
     #[inline(always)]

@@ -12,9 +12,15 @@
 //!
 //! The unrounded value each model returns is the "exact result of the same method" against
 //! which the kernels' error bounds (`tolerance::integer`) are measured.
+//!
+//! The extinction path and the opacity correction ([`extinction`], [`correction`]) have sums
+//! and products too wide for an exact `f64` (up to 126 bits); their models keep those
+//! intermediates as exact integers and say so.
 
 pub mod composite;
 pub mod correction;
+pub mod downsample;
+pub mod extinction;
 pub mod premul;
 pub mod sample;
 

@@ -51,26 +51,56 @@ pub const COMPOSITE_INT_A_LSB_PER_STEP: f64 = 0.5;
 /// Integer front-to-back compositor, per sample composited: each `C` (U8.8 LSB).
 pub const COMPOSITE_INT_C_LSB_PER_STEP: f64 = 1.0;
 
-/// Table-driven integer opacity correction at a u8 opacity (a table point): `α_d` (U8.8
-/// LSB), ½ of rounding plus the f64 table build.
-pub const CORRECTION_INT_TABLE_LSB: f64 = 0.5 + 1e-6;
+/// `e`, for the bounds below.
+const E: f64 = std::f64::consts::E;
 
-/// Table-driven integer opacity correction at any U8.8 opacity, ratio `r = d/d′`: `α_d`
-/// (U8.8 LSB). The table bound, ½ LSB for rounding the interpolated value, and the chord
-/// error of linear interpolation between table points (`h = 1/255`, `f(α) = 1 − (1 − α)^r`):
-/// in the intervals below the last, `h²/8·ONE·|r(r − 1)|·max(1, 255^(2−r))` (`|f''|` at their
-/// largest); in the last one, where `f` behaves like `1 − T^r` near `T = 1 − α = 0`,
-/// `ONE·h^r·|x*^r − x*|` with `x* = r^(1/(1−r))`. For `r < 1` the last term is large
-/// (1022 LSB ≈ 4 levels at `r = ½`). `C̃_d` adds ½ LSB to this.
+/// Chord error of one `φ`/`e^(−x)` table with `n = 2^B + 1` nodes on `[0, 1]`
+/// (`h = 1/(n − 1)`), in U8.8 LSB: `ONE·h²/(8e)`, the larger of the `e^(−n−t)` term
+/// (`h²/8·e^(−1)`, `x ≥ 1`) and the `x·φ` term (`h²/24`, `x < 1`).
+pub fn table_chord_lsb(n: usize) -> f64 {
+    let h = 1.0 / (n - 1) as f64;
+    65280.0 * h * h / (8.0 * E)
+}
+
+/// What the table-driven paths add beyond rounding and chord error, in U8.8 LSB: table
+/// entries (`2^−32`), the step's optical depth to 28 bits (`2^−29`), the ratio to 32 bits
+/// (`64·2^−33` at most) and the `e^(−16)` tail (0.0074).
+pub const TABLE_QUANT_LSB: f64 = 0.01;
+
+/// Integer `ExtinctionWeighted` with `n`-node tables, against the exact method on the same
+/// stored voxels: `α` (U8.8 LSB), `½ + table_chord_lsb(n) + TABLE_QUANT_LSB`.
+pub fn extinction_int_a_lsb(n: usize) -> f64 {
+    0.5 + table_chord_lsb(n) + TABLE_QUANT_LSB
+}
+
+/// Integer `ExtinctionWeighted`, each `C̃`: ½ more than `α` (at `x ≥ 1` the color reuses the
+/// rounded `α`).
+pub fn extinction_int_c_lsb(n: usize) -> f64 {
+    1.0 + table_chord_lsb(n) + TABLE_QUANT_LSB
+}
+
+/// Storage of `(τ, C^τ)` in U7.20 (`D` within `2^−21`, `D·C` within `2^−20`), seen through a
+/// step of ratio `r`, in U8.8 LSB: `(α, C̃)` terms `ONE·r·2^−21` and `1.25·ONE·r·2^−20`
+/// (`|∂α/∂D̄| ≤ r`, `|∂C̃/∂C̄| ≤ r`, `|∂C̃/∂D̄| ≤ r·max x|φ'(x)| < 0.3·r`). Added to the
+/// kernel bounds when comparing with the `f64` reference on the straight voxels.
+pub fn extinction_int_storage_lsb(r: f64) -> (f64, f64) {
+    let lsb = 65280.0 * r / 1_048_576.0;
+    (0.5 * lsb, 1.25 * lsb)
+}
+
+/// Relative error of the correction's optical depth `L = −ln(1 − α)`: the `ln m` chord
+/// `2^−16/8` plus entries, over `L ≥ ln(65280/32512) > 0.697` (the `ψ` branch's
+/// `(128/65280)²/8·3.1 = 1.5·10^−6` is smaller).
+pub const CORRECTION_L_REL: f64 = (1.0 / 65536.0 / 8.0 + 2e-10) / 0.697;
+
+/// Table-driven integer opacity correction, any U8.8 opacity and any ratio: `α_d` (U8.8
+/// LSB). ½ of final rounding, `L`'s relative error times `max y·e^(−y) = 1/e`, the 257-node
+/// `φ`/`e^(−x)` chord, and [`TABLE_QUANT_LSB`]: 0.62 LSB. `C̃_d` adds ½ LSB to this.
+pub const CORRECTION_INT_LSB: f64 =
+    0.5 + 65280.0 * CORRECTION_L_REL / E + 65280.0 / (65536.0 * 8.0 * E) + TABLE_QUANT_LSB;
+
+/// The correction bound for ratio `r` (the same for every `r`: [`CORRECTION_INT_LSB`]).
 pub fn correction_int_lsb(r: f32) -> f64 {
-    let r = f64::from(r);
-    let one = 65280.0;
-    let h = 1.0 / 255.0;
-    if (r - 1.0).abs() < 1e-12 {
-        return CORRECTION_INT_TABLE_LSB + 0.5;
-    }
-    let interior = h * h / 8.0 * one * (r * (r - 1.0)).abs() * 255.0f64.powf(2.0 - r).max(1.0);
-    let xs = r.powf(1.0 / (1.0 - r));
-    let last = one * h.powf(r) * (xs.powf(r) - xs).abs();
-    CORRECTION_INT_TABLE_LSB + 0.5 + interior.max(last)
+    let _ = r;
+    CORRECTION_INT_LSB
 }

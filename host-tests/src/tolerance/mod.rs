@@ -8,6 +8,7 @@
 //! error fails, and the closing notes quote the worst error observed next to the bound.
 
 pub mod downsample;
+pub mod hard_cases;
 /// Integer-kernel bounds (`volsample::fixed_point`), in output LSBs.
 pub mod integer;
 
@@ -81,3 +82,31 @@ pub fn sample_bound(mode: ModeKind, filter: FilterKind, case: &FloatCase, d: f32
 /// of the same trilinear extinction field, on smooth data: error at most this times the step
 /// `d` (voxel units).
 pub const EXTINCTION_TRUTH_PER_STEP: f64 = 0.05;
+
+/// [`volsample::opacity::phi`]: relative error against the f64 `φ`.
+pub const PHI_REL: f64 = 4.0 * EPS32;
+
+/// [`volsample::mode::integrate_step`]: absolute error of `α` and each `C̃`.
+pub const INTEGRATE_STEP_ABS: f64 = 6.0 * EPS32;
+
+/// [`volsample::ExtinctionF32::from_straight`]: relative error of `τ` (below the cap).
+pub const FROM_STRAIGHT_TAU_REL: f64 = 2.0 * EPS32;
+
+/// [`volsample::TransferFunction::eval`]: absolute error is at most
+/// `TF_EVAL_BASE + L·TF_EVAL_PER_SLOPE·|s|`, `L` the segment's slope.
+pub const TF_EVAL_BASE: f64 = 3.0 * EPS32;
+/// See [`TF_EVAL_BASE`].
+pub const TF_EVAL_PER_SLOPE: f64 = 2.0 * EPS32;
+
+/// [`volsample::filter::trilinear_weights`]: absolute error of each weight.
+pub const TRILINEAR_WEIGHT_ABS: f64 = 4.0 * EPS32;
+
+/// [`volsample::classify::Isosurface::opacity`]: absolute error.
+pub const ISOSURFACE_ABS: f64 = 4.0 * EPS32;
+
+/// [`volsample::classify::gradient`]: absolute error per component, times the largest
+/// scalar magnitude among the differenced values.
+pub const GRADIENT_REL: f64 = EPS32;
+
+/// [`volsample::shade::Light::factor`]: absolute error.
+pub const LIGHT_FACTOR_ABS: f64 = 6.0 * EPS32;

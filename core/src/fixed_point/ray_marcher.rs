@@ -1,0 +1,258 @@
+//! The integer pipeline: marching rays with integer samples, correction and compositing.
+//!
+//! [`IntRayMarcher`] follows the conventions of the float [`RayMarcher`](crate::RayMarcher):
+//! samples at `t_k = (k + phase)·d` for every integer `k` with `t0 ≤ t_k < t1`, `[t0, t1]` the
+//! ray's intersection with the box `[−½, n − ½]` per axis ([`Ray::clip`]), each sample
+//! standing for a segment of length `d`. Only the sample positions are float: each is
+//! **clamped** into `[0, n − 1]` per axis (exact under clamp-to-edge reconstruction, which
+//! reads the edge voxel there anyway, for nearest and trilinear) and quantized with
+//! [`IntPos::quantize`] (**round half up** to `F` fractional bits). Everything after that is
+//! integer: the sample ([`IntSampler`]), the table-driven [`IntCorrection`] (only for the
+//! opacity-based modes and only when `d ≠ d′`), and [`front_to_back`] compositing, which
+//! stops before a sample once `A ≥ A_stop` ([`IntStop`]).
+//!
+//! Stages a scene does not use are not in the inner loop: the correction is chosen once per
+//! ray by type, not per sample.
+
+use super::composite::{front_to_back, IntStop};
+use super::DEFAULT_FRAC_BITS;
+use super::{check_frac_bits, IntCorrection, IntFilter, IntMode, IntPos, IntSample, IntSampler};
+use crate::error::Error;
+use crate::ray::{Camera, Ray};
+use crate::render::{Step, MAX_SAMPLES_PER_RAY};
+use crate::volume::Volume;
+use crate::voxel::Voxel;
+
+/// The correction stage, chosen by type so that `d = d′` costs nothing per sample.
+trait Stage {
+    fn apply(&self, s: IntSample) -> IntSample;
+}
+
+/// No correction.
+struct Identity;
+
+impl Stage for Identity {
+    #[inline(always)]
+    fn apply(&self, s: IntSample) -> IntSample {
+        s
+    }
+}
+
+impl Stage for IntCorrection {
+    #[inline(always)]
+    fn apply(&self, s: IntSample) -> IntSample {
+        IntCorrection::apply(self, s)
+    }
+}
+
+/// A configured integer pipeline: volume, mode `M`, filter `Fl`, `F` fractional position
+/// bits, step, early termination and background.
+///
+/// Error bound: per sample, that of the mode's kernel at the quantized position (plus that of
+/// [`IntCorrection`] when `d ≠ d′`); per ray, the compositor's `n/2` (`A`) and `n` (`C`) LSB
+/// over `n` samples ([`front_to_back`]). Against the float pipeline add the position
+/// quantization (`2^−(F+1)` voxel per axis).
+///
+/// ```
+/// use volsample::fixed_point::{IntRayMarcher, IntSample, IntStop, ONE};
+/// use volsample::{OpacityWeighted, Orthographic, Step, StraightU8, Trilinear, Volume};
+/// // A 4×4×4 volume: opaque white core in transparent black air.
+/// let mut voxels = [StraightU8([0, 0, 0, 0]); 64];
+/// for z in 1..3 { for y in 1..3 { for x in 1..3 {
+///     voxels[x + 4 * (y + 4 * z)] = StraightU8([255, 255, 255, 255]);
+/// }}}
+/// let vol = Volume::new(&voxels, [4, 4, 4])?;
+/// let marcher = IntRayMarcher::<_, _, _, 8>::new(
+///     vol, OpacityWeighted, Trilinear::new(), IntStop::NEVER, Step::new(0.5)?,
+/// )?;
+/// let mut image = [IntSample::TRANSPARENT; 16];
+/// marcher.render_into(&Orthographic::looking_down_z([4, 4, 4])?, 4, 4, &mut image)?;
+/// assert_eq!(image[5].a(), ONE); // through the core: opaque
+/// assert_eq!(image[5].c(), [ONE; 3]); // and white
+/// assert_eq!(image[0].a(), 0); // through air at the corner
+/// # Ok::<(), volsample::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct IntRayMarcher<'v, V, M, Fl, const F: u32 = DEFAULT_FRAC_BITS> {
+    sampler: IntSampler<'v, V, M, Fl>,
+    dims: [usize; 3],
+    hi: [f32; 3],
+    step: Step,
+    stop: IntStop,
+    background: IntSample,
+    correction: Option<IntCorrection>,
+}
+
+impl<'v, V, M, Fl, const F: u32> IntRayMarcher<'v, V, M, Fl, F>
+where
+    V: Voxel,
+    M: IntMode<V>,
+    Fl: IntFilter,
+{
+    /// Builds the pipeline. The mode is configured for `d/d′` ([`IntMode::for_step_ratio`]);
+    /// opacity correction is enabled exactly when the mode is opacity-based and `d ≠ d′`.
+    ///
+    /// # Errors
+    /// [`Error::TooManySamples`] as for the float marcher; [`Error::DimensionTooLarge`] if a
+    /// voxel coordinate times `2^F` does not fit in `u32`; [`Error::InvalidStep`] if `d/d′`
+    /// is not below `2^32`.
+    pub fn new(
+        volume: Volume<'v, V>,
+        mode: M,
+        filter: Fl,
+        stop: IntStop,
+        step: Step,
+    ) -> Result<Self, Error> {
+        check_frac_bits!(F);
+        let dims = volume.dims();
+        let [nx, ny, nz] = dims.map(|n| n as f32);
+        let diag = libm::sqrtf(nx * nx + ny * ny + nz * nz);
+        if diag / step.d() + 2.0 > MAX_SAMPLES_PER_RAY as f32 {
+            return Err(Error::TooManySamples);
+        }
+        if dims.iter().any(|&n| (n as u64) << F > u64::from(u32::MAX)) {
+            return Err(Error::DimensionTooLarge);
+        }
+        let ratio = step.d() / volume.reference_distance();
+        let mode = mode.for_step_ratio(ratio)?;
+        let correction = if M::OPACITY_BASED && ratio != 1.0 {
+            Some(IntCorrection::new(ratio)?)
+        } else {
+            None
+        };
+        Ok(Self {
+            sampler: IntSampler::new(volume, mode, filter),
+            dims,
+            hi: dims.map(|n| (n - 1) as f32),
+            step,
+            stop,
+            background: IntSample::TRANSPARENT,
+            correction,
+        })
+    }
+
+    /// Sets a background, composited behind every ray with the same integer
+    /// [`front_to_back`] step.
+    pub fn with_background(mut self, bg: IntSample) -> Self {
+        self.background = bg;
+        self
+    }
+
+    /// The step.
+    pub fn step(&self) -> Step {
+        self.step
+    }
+
+    /// The opacity correction in use (`None` when `d = d′` or for the extinction mode).
+    pub fn correction(&self) -> Option<&IntCorrection> {
+        self.correction.as_ref()
+    }
+
+    /// The quantized position of a float sample position: clamped into `[0, n − 1]` per axis,
+    /// then [`IntPos::quantize`]d (a NaN coordinate reads as 0). Never `None`: the
+    /// constructor checked that `(n − 1)·2^F` fits in `u32`.
+    #[inline]
+    pub fn quantize(&self, pos: [f32; 3]) -> Option<IntPos<F>> {
+        let [x, y, z] = pos;
+        let [hx, hy, hz] = self.hi;
+        // `max` returns the non-NaN operand, so NaN becomes 0.
+        IntPos::quantize([x.max(0.0).min(hx), y.max(0.0).min(hy), z.max(0.0).min(hz)]).ok()
+    }
+
+    /// One sample at `pos` (voxel units, clamped and quantized as [`quantize`](Self::quantize)
+    /// does), opacity-corrected for the step.
+    #[inline]
+    pub fn sample(&self, pos: [f32; 3]) -> IntSample {
+        match &self.correction {
+            Some(c) => self.sample_with(pos, c),
+            None => self.sample_with(pos, &Identity),
+        }
+    }
+
+    #[inline(always)]
+    fn sample_with<C: Stage>(&self, pos: [f32; 3], corr: &C) -> IntSample {
+        match self.quantize(pos) {
+            Some(p) => corr.apply(self.sampler.sample(p)),
+            None => IntSample::TRANSPARENT,
+        }
+    }
+
+    /// The number of samples a ray takes without early termination, and the distance `t` of
+    /// the first one (the float marcher's [`sample_range`](crate::RayMarcher::sample_range)).
+    pub fn sample_range(&self, ray: &Ray) -> (f32, u32) {
+        let Some((t0, t1)) = ray.clip(self.dims) else {
+            return (0.0, 0);
+        };
+        let (d, phase) = (self.step.d(), self.step.phase());
+        let k0 = libm::ceilf(t0 / d - phase);
+        let k1 = libm::ceilf(t1 / d - phase);
+        let n = (k1 - k0).clamp(0.0, MAX_SAMPLES_PER_RAY as f32) as u32;
+        ((k0 + phase) * d, n)
+    }
+
+    /// Integrates one ray and composites it over the background.
+    #[inline]
+    pub fn cast(&self, ray: &Ray) -> IntSample {
+        self.cast_counted(ray).0
+    }
+
+    /// [`cast`](Self::cast), also returning the number of samples composited (fewer than the
+    /// ray's sample count when early termination stops it).
+    #[inline]
+    pub fn cast_counted(&self, ray: &Ray) -> (IntSample, u32) {
+        let (acc, n) = match &self.correction {
+            Some(c) => self.march(ray, c),
+            None => self.march(ray, &Identity),
+        };
+        (front_to_back(acc, self.background), n)
+    }
+
+    #[inline(always)]
+    fn march<C: Stage>(&self, ray: &Ray, corr: &C) -> (IntSample, u32) {
+        let (t_first, n) = self.sample_range(ray);
+        let d = self.step.d();
+        let a_stop = self.stop.a_stop();
+        let mut acc = IntSample::TRANSPARENT;
+        for j in 0..n {
+            if acc.a() >= a_stop {
+                return (acc, j);
+            }
+            let s = self.sample_with(ray.at(t_first + j as f32 * d), corr);
+            acc = front_to_back(acc, s);
+        }
+        (acc, n)
+    }
+
+    /// Renders a `width × height` image (row-major, row 0 at the top) into `image`.
+    ///
+    /// # Errors
+    /// [`Error::EmptyImage`] for a zero width or height, [`Error::ImageSizeMismatch`] unless
+    /// `image.len() == width·height`.
+    pub fn render_into<Cam: Camera>(
+        &self,
+        camera: &Cam,
+        width: usize,
+        height: usize,
+        image: &mut [IntSample],
+    ) -> Result<(), Error> {
+        if width == 0 || height == 0 {
+            return Err(Error::EmptyImage);
+        }
+        let expected = width.checked_mul(height).ok_or(Error::ImageSizeMismatch {
+            expected: usize::MAX,
+            actual: image.len(),
+        })?;
+        if image.len() != expected {
+            return Err(Error::ImageSizeMismatch {
+                expected,
+                actual: image.len(),
+            });
+        }
+        for (j, row) in image.chunks_exact_mut(width).enumerate() {
+            for (i, px) in row.iter_mut().enumerate() {
+                *px = self.cast(&camera.ray(i, j, width, height));
+            }
+        }
+        Ok(())
+    }
+}

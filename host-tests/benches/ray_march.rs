@@ -1,0 +1,237 @@
+//! Ray-marching throughput (issue 9): nanoseconds per sample of the whole float and integer
+//! pipelines, on the reference 256³ RGBA8 volume with coherent rays at step 0.5 voxel, plus an
+//! in-cache 64³ volume and random-access sampling of 256³ (the memory-bound case).
+//!
+//! Every benchmark reports its throughput in samples (criterion's "elem/s"), so
+//! `ns/sample = 1e9 / (elem/s)`; `host-tests/peers/run.sh` reads the medians back from
+//! `target/criterion/ray_march/*/new/` and sets them beside the peers.
+//!
+//! The volume and the sample positions are integer-defined so that the peer script
+//! (`host-tests/peers/peers.py`) rebuilds the same volume and the same rays:
+//! voxel `(x, y, z)` is straight RGBA `(x mod 256, y mod 256, z mod 256, 4 + (7x + 13y + 29z)
+//! mod 61)`; the ray of pixel `(i, j)` starts at `(n/16 + i + ¼, n/4 + j + ¼, −1)` along
+//! `(0.12, 0.08, 1)` (normalised), for an `n/2 × n/2` grid of pixels. The opacities are
+//! defined for the step (`d′ = d = 0.5`), so no opacity-correction stage runs: this measures
+//! reconstruction plus compositing, the work the issue's target names.
+//!
+//! `VOLSAMPLE_BENCH_QUICK=1` shortens the measurement (for a quick look, not for the table).
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use volsample::fixed_point::{IntRayMarcher, IntStop};
+use volsample::{
+    ExtinctionF32, ExtinctionWeighted, FrontToBack, OpacityWeighted, Ray, RayMarcher, Separate,
+    Step, StraightF32, StraightU8, Trilinear, Volume,
+};
+
+/// The step, and the reference distance the opacities are defined for.
+const D: f32 = 0.5;
+
+/// Voxel `(x, y, z)` of the benchmark volume (mirrored in `peers.py`).
+fn voxel(x: usize, y: usize, z: usize) -> StraightU8 {
+    let a = 4 + (7 * x + 13 * y + 29 * z) % 61;
+    StraightU8([x as u8, y as u8, z as u8, a as u8])
+}
+
+/// An `n³` volume, x fastest.
+fn volume(n: usize) -> Vec<StraightU8> {
+    let mut v = Vec::with_capacity(n * n * n);
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                v.push(voxel(x, y, z));
+            }
+        }
+    }
+    v
+}
+
+/// The coherent rays through an `n³` volume, in image order (mirrored in `peers.py`).
+fn rays(n: usize) -> Vec<Ray> {
+    let w = n / 2;
+    let (x0, y0) = ((n / 16) as f32, (n / 4) as f32);
+    let mut out = Vec::with_capacity(w * w);
+    for j in 0..w {
+        for i in 0..w {
+            let o = [x0 + i as f32 + 0.25, y0 + j as f32 + 0.25, -1.0];
+            out.push(Ray::new(o, [0.12, 0.08, 1.0]).unwrap());
+        }
+    }
+    out
+}
+
+/// `count` random positions in `[0, 255)³`, from splitmix64 of the index (mirrored in
+/// `peers.py`): each coordinate is `(h >> 40)·255/2²⁴`.
+fn random_positions(count: usize) -> Vec<[f32; 3]> {
+    let coord = |k: u64| {
+        let mut z = k.wrapping_add(1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 40) as f32 * (255.0 / 16_777_216.0)
+    };
+    (0..count as u64)
+        .map(|i| [coord(3 * i), coord(3 * i + 1), coord(3 * i + 2)])
+        .collect()
+}
+
+fn quick() -> bool {
+    std::env::var_os("VOLSAMPLE_BENCH_QUICK").is_some()
+}
+
+fn bench(c: &mut Criterion) {
+    let step = Step::new(D).unwrap();
+    let v256 = volume(256);
+    let vol = Volume::new(&v256, [256; 3])
+        .unwrap()
+        .with_reference_distance(D)
+        .unwrap();
+    let rays256 = rays(256);
+    let ow = RayMarcher::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap();
+    let n256: u64 = rays256
+        .iter()
+        .map(|r| u64::from(ow.sample_range(r).1))
+        .sum();
+
+    let mut g = c.benchmark_group("ray_march");
+    g.sample_size(10);
+    let t = if quick() { 2 } else { 8 };
+    g.warm_up_time(Duration::from_secs(1));
+    g.measurement_time(Duration::from_secs(t));
+
+    g.throughput(Throughput::Elements(n256));
+    g.bench_function("ow_f32_u8_256", |b| {
+        b.iter(|| {
+            let mut s = 0.0f32;
+            for r in &rays256 {
+                let p = ow.cast(r);
+                s += p.a + p.c[0];
+            }
+            black_box(s)
+        })
+    });
+
+    let sep = RayMarcher::new(vol, Separate, Trilinear::new(), FrontToBack::new(), step).unwrap();
+    g.bench_function("separate_f32_u8_256", |b| {
+        b.iter(|| {
+            let mut s = 0.0f32;
+            for r in &rays256 {
+                let p = sep.cast(r);
+                s += p.a + p.c[0];
+            }
+            black_box(s)
+        })
+    });
+
+    let int_ow = IntRayMarcher::<_, _, _, 8>::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        IntStop::NEVER,
+        step,
+    )
+    .unwrap();
+    g.bench_function("ow_int_f8_u8_256", |b| {
+        b.iter(|| {
+            let mut s = 0u32;
+            for r in &rays256 {
+                let p = int_ow.cast(r);
+                s += u32::from(p.a()) + u32::from(p.c()[0]);
+            }
+            black_box(s)
+        })
+    });
+
+    {
+        // 256³ × 16 bytes: the extinction form of the same volume (τ for d′ = 0.5).
+        let ext: Vec<ExtinctionF32> = v256
+            .iter()
+            .map(|v| {
+                let [r, g, b, a] = v.0.map(|n| f32::from(n) / 255.0);
+                ExtinctionF32::from_straight(StraightF32 { c: [r, g, b], a }, D)
+            })
+            .collect();
+        let evol = Volume::new(&ext, [256; 3]).unwrap();
+        let em = RayMarcher::new(
+            evol,
+            ExtinctionWeighted,
+            Trilinear::new(),
+            FrontToBack::new(),
+            step,
+        )
+        .unwrap();
+        g.bench_function("extinction_f32_exact_exp_256", |b| {
+            b.iter(|| {
+                let mut s = 0.0f32;
+                for r in &rays256 {
+                    let p = em.cast(r);
+                    s += p.a + p.c[0];
+                }
+                black_box(s)
+            })
+        });
+    }
+
+    {
+        let v64 = volume(64);
+        let vol64 = Volume::new(&v64, [64; 3])
+            .unwrap()
+            .with_reference_distance(D)
+            .unwrap();
+        let rays64 = rays(64);
+        let ow64 = RayMarcher::new(
+            vol64,
+            OpacityWeighted,
+            Trilinear::new(),
+            FrontToBack::new(),
+            step,
+        )
+        .unwrap();
+        let n64: u64 = rays64
+            .iter()
+            .map(|r| u64::from(ow64.sample_range(r).1))
+            .sum();
+        g.throughput(Throughput::Elements(n64));
+        g.bench_function("ow_f32_u8_64_in_cache", |b| {
+            b.iter(|| {
+                let mut s = 0.0f32;
+                for r in &rays64 {
+                    let p = ow64.cast(r);
+                    s += p.a + p.c[0];
+                }
+                black_box(s)
+            })
+        });
+    }
+
+    let pos = random_positions(1 << 20);
+    g.throughput(Throughput::Elements(pos.len() as u64));
+    g.bench_function("ow_f32_u8_256_random_access", |b| {
+        b.iter(|| {
+            let mut s = 0.0f32;
+            for p in &pos {
+                let x = ow.sample(*p);
+                s += x.a + x.c[0];
+            }
+            black_box(s)
+        })
+    });
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    // No plots: they need system fonts, and the numbers are what this bench is for.
+    config = Criterion::default().without_plots();
+    targets = bench
+}
+criterion_main!(benches);

@@ -1,0 +1,312 @@
+//! The fast paths of the ray marchers (issue 9) against the plain kernels they replace:
+//! bit-identical, on random volumes, positions and rays, edges and odd inputs included.
+//!
+//! * [`Trilinear::gather`] (interior cells without clamps) against
+//!   [`Trilinear::gather_clamped`] (`floorf` and a clamp per tap);
+//! * [`Mode::weighted8_f32`] (four lanes per tap) against [`Mode::weighted`] in `f32`;
+//! * whole rays of [`RayMarcher`] against a plain marcher written here from the public
+//!   kernels (clamped gather, generic weighted sum, `finish`, correction, compositing);
+//! * the integer sampler's interior path and truncating quantization against clamped taps
+//!   and `floor`.
+//!
+//! `VOLSAMPLE_FAST_PATH_CASES` sets the number of random cases (default 2000).
+
+use volsample::composite::{back_to_front, front_to_back, over, Order};
+use volsample::filter::trilinear_weights;
+use volsample::fixed_point::{IntMode, IntPos, IntSampler, IntWeights};
+use volsample::opacity::correct;
+use volsample::voxel::Voxel;
+use volsample::{
+    AssociatedU8, BackToFront, ExtinctionF32, ExtinctionWeighted, FrontToBack, Mode,
+    OpacityWeighted, Preweighted, Ray, RayMarcher, Sample, Separate, Step, StraightF32, StraightU8,
+    Trilinear, Volume,
+};
+
+/// xorshift64*: deterministic, seedable.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+    fn unit(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / 16_777_216.0
+    }
+    fn byte(&mut self) -> u8 {
+        self.next() as u8
+    }
+    /// A coordinate for an axis of `n` voxels: mostly inside, often on or near the edges,
+    /// sometimes odd (−0, negative, NaN, ±∞, huge).
+    fn coord(&mut self, n: usize) -> f32 {
+        let hi = (n - 1) as f32;
+        match self.below(16) {
+            0 => -0.0,
+            1 => hi,
+            2 => hi - f32::EPSILON * hi.max(1.0),
+            3 => -self.unit() * 2.0,
+            4 => hi + self.unit() * 2.0,
+            5 => [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30][self.below(5) as usize],
+            6 => self.below(n as u64) as f32,
+            _ => (self.unit() * (hi + 1.0)) - 0.5,
+        }
+    }
+}
+
+fn cases() -> usize {
+    std::env::var("VOLSAMPLE_FAST_PATH_CASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(2000)
+}
+
+fn random_dims(rng: &mut Rng) -> [usize; 3] {
+    [0; 3].map(|_| 1 + rng.below(6) as usize)
+}
+
+fn random_u8_volume(rng: &mut Rng, dims: [usize; 3]) -> Vec<StraightU8> {
+    let n = dims.iter().product();
+    (0..n)
+        .map(|_| {
+            // Some opaque and some empty voxels, the rest random.
+            match rng.below(4) {
+                0 => StraightU8([rng.byte(), rng.byte(), rng.byte(), 255]),
+                1 => StraightU8([rng.byte(), rng.byte(), rng.byte(), 0]),
+                _ => StraightU8([rng.byte(), rng.byte(), rng.byte(), rng.byte()]),
+            }
+        })
+        .collect()
+}
+
+fn same_f32(a: f32, b: f32) -> bool {
+    a.to_bits() == b.to_bits()
+}
+
+fn same_sample(a: &Sample, b: &Sample) -> bool {
+    same_f32(a.a, b.a) && a.c.iter().zip(b.c.iter()).all(|(x, y)| same_f32(*x, *y))
+}
+
+#[test]
+fn gather_fast_path_is_bit_identical_to_the_clamped_path() {
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut interior = 0usize;
+    for _ in 0..cases() {
+        let dims = random_dims(&mut rng);
+        let data = random_u8_volume(&mut rng, dims);
+        let vol = Volume::new(&data, dims).unwrap();
+        for _ in 0..32 {
+            let pos = dims.map(|n| rng.coord(n));
+            let (taps, f) = Trilinear::<volsample::WeightedSum>::gather(&vol, pos);
+            let (taps_ref, f_ref) = Trilinear::<volsample::WeightedSum>::gather_clamped(&vol, pos);
+            assert_eq!(taps, taps_ref, "taps at {pos:?} in {dims:?}");
+            for (a, b) in f.iter().zip(f_ref.iter()) {
+                assert!(same_f32(*a, *b), "fractions {f:?} vs {f_ref:?} at {pos:?}");
+            }
+            let [x, y, z] = pos;
+            let [nx, ny, nz] = dims;
+            if x >= 0.0
+                && x < (nx - 1) as f32
+                && y >= 0.0
+                && y < (ny - 1) as f32
+                && z >= 0.0
+                && z < (nz - 1) as f32
+            {
+                interior += 1;
+            }
+        }
+    }
+    assert!(
+        interior > cases(),
+        "too few interior cells exercised: {interior}"
+    );
+}
+
+/// `weighted8_f32` against `weighted::<f32, 8>` for one mode and random taps.
+fn check_weighted8<V: Voxel + std::fmt::Debug, M: Mode<V>>(
+    mode: &M,
+    rng: &mut Rng,
+    tap: impl Fn(&mut Rng) -> V,
+) {
+    for _ in 0..cases() * 8 {
+        let taps: [V; 8] = std::array::from_fn(|_| tap(rng));
+        let f = [rng.unit(), rng.unit(), rng.unit()];
+        let w = trilinear_weights(f);
+        let fast = mode.weighted8_f32(&taps, &w);
+        let plain = mode.weighted::<f32, 8>(&taps, &w);
+        let ok = same_f32(fast.a, plain.a)
+            && fast
+                .c
+                .iter()
+                .zip(plain.c.iter())
+                .all(|(a, b)| same_f32(*a, *b));
+        assert!(ok, "{mode:?} {taps:?} at {f:?}: {fast:?} vs {plain:?}");
+    }
+}
+
+#[test]
+fn lane_kernels_are_bit_identical_to_the_generic_weighted_sums() {
+    let mut rng = Rng(0x1234_5678_9ABC_DEF1);
+    let straight = |r: &mut Rng| StraightU8([r.byte(), r.byte(), r.byte(), r.byte()]);
+    check_weighted8(&OpacityWeighted, &mut rng, straight);
+    check_weighted8(&Separate, &mut rng, straight);
+    let sf = |r: &mut Rng| StraightF32 {
+        c: [r.unit(), r.unit(), r.unit()],
+        a: if r.below(4) == 0 { 1.0 } else { r.unit() },
+    };
+    check_weighted8(&OpacityWeighted, &mut rng, sf);
+    check_weighted8(&Preweighted, &mut rng, |r: &mut Rng| {
+        let a = r.byte();
+        let c = |r: &mut Rng| (u16::from(r.byte()) * u16::from(a) / 255) as u8;
+        AssociatedU8([c(r), c(r), c(r), a])
+    });
+    check_weighted8(&ExtinctionWeighted, &mut rng, |r: &mut Rng| {
+        ExtinctionF32::from_straight(sf(r), 1.0)
+    });
+}
+
+/// A plain marcher from the public kernels: clamped gather, the generic weighted sum, the
+/// mode's `finish`, opacity correction where the marcher uses it, compositing.
+fn plain_cast<M: Mode<StraightU8>, O: Order>(
+    m: &RayMarcher<'_, StraightU8, M, Trilinear, O>,
+    mode: &M,
+    ray: &Ray,
+    bg: Sample,
+) -> Sample {
+    let (t_first, n) = m.sample_range(ray);
+    let d = m.step().d();
+    let sample = |j: u32| {
+        let (taps, f) = Trilinear::<volsample::WeightedSum>::gather_clamped(
+            m.volume(),
+            ray.at(t_first + j as f32 * d),
+        );
+        let s = mode.finish(mode.weighted::<f32, 8>(&taps, &trilinear_weights(f)), d);
+        match m.correction() {
+            Some(c) => correct(s, c.ratio()),
+            None => s,
+        }
+    };
+    let mut acc = Sample::TRANSPARENT;
+    if O::FRONT_TO_BACK {
+        for j in 0..n {
+            acc = front_to_back(acc, sample(j));
+        }
+    } else {
+        for j in (0..n).rev() {
+            acc = back_to_front(acc, sample(j));
+        }
+    }
+    over(acc, bg)
+}
+
+fn random_ray(rng: &mut Rng, dims: [usize; 3]) -> Ray {
+    let c = dims.map(|n| n as f32 * 0.5 - 0.5);
+    let dir = [0; 3].map(|_| rng.unit() * 2.0 - 1.0);
+    let dir = if dir.iter().all(|d| d.abs() < 1e-3) {
+        [0.0, 0.0, 1.0]
+    } else if rng.below(4) == 0 {
+        // Axis-aligned rays, which run along cell faces.
+        let mut a = [0.0; 3];
+        a[rng.below(3) as usize] = if rng.below(2) == 0 { 1.0 } else { -1.0 };
+        a
+    } else {
+        dir
+    };
+    // Start outside the box, aimed near its centre.
+    let back = 2.0 * dims.iter().copied().max().unwrap_or(1) as f32;
+    let jitter = [0; 3].map(|_| rng.unit() * 2.0 - 1.0);
+    let origin = [0, 1, 2].map(|k| c[k] + jitter[k] * c[k].max(0.5) - dir[k] * back);
+    Ray::new(origin, dir).unwrap()
+}
+
+#[test]
+fn ray_marcher_is_bit_identical_to_the_plain_marcher() {
+    let mut rng = Rng(0x0DDB_1A5E_5BAD_5EED);
+    let bg = Sample {
+        c: [0.1, 0.2, 0.3],
+        a: 0.5,
+    };
+    for case in 0..cases() / 4 {
+        let dims = random_dims(&mut rng);
+        let data = random_u8_volume(&mut rng, dims);
+        let d_ref = [1.0, 0.5, 0.75][case % 3];
+        let vol = Volume::new(&data, dims)
+            .unwrap()
+            .with_reference_distance(d_ref)
+            .unwrap();
+        let step = Step::new([0.5, 0.3, 1.0][case % 3])
+            .unwrap()
+            .with_phase(rng.unit() * 0.99)
+            .unwrap();
+        let ow = RayMarcher::new(
+            vol,
+            OpacityWeighted,
+            Trilinear::new(),
+            FrontToBack::new(),
+            step,
+        )
+        .unwrap()
+        .with_background(bg)
+        .unwrap();
+        let sep = RayMarcher::new(vol, Separate, Trilinear::new(), BackToFront, step).unwrap();
+        for _ in 0..8 {
+            let ray = random_ray(&mut rng, dims);
+            let (fast, plain) = (ow.cast(&ray), plain_cast(&ow, &OpacityWeighted, &ray, bg));
+            assert!(
+                same_sample(&fast, &plain),
+                "OW {dims:?} {ray:?}: {fast:?} vs {plain:?}"
+            );
+            let t = Sample::TRANSPARENT;
+            let (fast, plain) = (sep.cast(&ray), plain_cast(&sep, &Separate, &ray, t));
+            assert!(
+                same_sample(&fast, &plain),
+                "Sep {dims:?} {ray:?}: {fast:?} vs {plain:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn integer_interior_path_and_quantization_are_bit_identical() {
+    let mut rng = Rng(0xC0FF_EE00_1234_5678);
+    for _ in 0..cases() {
+        let dims = random_dims(&mut rng);
+        let data = random_u8_volume(&mut rng, dims);
+        let vol = Volume::new(&data, dims).unwrap();
+        let sampler = IntSampler::new(vol, OpacityWeighted, Trilinear::new());
+        for _ in 0..16 {
+            // Raw positions over the grid and a little past its far edge.
+            let raw = dims.map(|n| rng.below(((n as u64) << 8) + 512) as u32);
+            let pos = IntPos::<8>::from_raw(raw);
+            let [x, y, z] = pos.index().map(|i| i as isize);
+            let taps = [
+                (x, y, z),
+                (x + 1, y, z),
+                (x, y + 1, z),
+                (x + 1, y + 1, z),
+                (x, y, z + 1),
+                (x + 1, y, z + 1),
+                (x, y + 1, z + 1),
+                (x + 1, y + 1, z + 1),
+            ]
+            .map(|(a, b, c)| vol.fetch_clamped(a, b, c));
+            let plain = OpacityWeighted.combine(&taps, &IntWeights::trilinear(pos));
+            assert_eq!(sampler.sample(pos), plain, "at {raw:?} in {dims:?}");
+        }
+        for _ in 0..16 {
+            let p = dims.map(|n| rng.coord(n) * 37.0);
+            let reference = p.map(|x| (f64::from(x) * 256.0 + 0.5).floor());
+            let expected = if reference.iter().all(|v| (0.0..4_294_967_296.0).contains(v)) {
+                Some(reference.map(|v| v as u32))
+            } else {
+                None
+            };
+            let got = IntPos::<8>::quantize(p).ok().map(|q| q.raw());
+            assert_eq!(got, expected, "quantize {p:?}");
+        }
+    }
+}

@@ -1,0 +1,165 @@
+//! The small numeric functions of the core against f64, each held to the bound its doc
+//! comment states (one named constant per function in the tolerance table). Each test prints
+//! its worst error as a fraction of the bound.
+
+use proptest::prelude::*;
+use volsample::classify::{gradient, Isosurface};
+use volsample::filter::trilinear_weights;
+use volsample::mode::integrate_step;
+use volsample::opacity::{phi, PHI_SERIES_BELOW};
+use volsample::shade::Light;
+use volsample::{ControlPoint, ExtinctionF32, StraightF32, TransferFunction, Volume};
+use volsample_host::reference::{self, RefExtinction};
+use volsample_host::tolerance as tol;
+
+#[test]
+fn phi_relative_error() {
+    let mut worst = 0.0f64;
+    let mut xs: Vec<f32> = (0..4000)
+        .map(|k| 10f32.powf(-30.0 + k as f32 * 0.00875))
+        .collect();
+    // Around the series switch-over, one ulp at a time.
+    let mut x = PHI_SERIES_BELOW;
+    for _ in 0..200 {
+        x = f32::from_bits(x.to_bits() - 1);
+    }
+    for _ in 0..400 {
+        xs.push(x);
+        x = f32::from_bits(x.to_bits() + 1);
+    }
+    xs.extend([0.0, f32::MIN_POSITIVE, 1e-45, 88.0, 1e30, f32::MAX]);
+    for x in xs {
+        let got = f64::from(phi(x));
+        let want = reference::phi(f64::from(x));
+        let rel = if want == 0.0 {
+            got.abs()
+        } else {
+            ((got - want) / want).abs()
+        };
+        worst = worst.max(rel);
+    }
+    assert_eq!(phi(f32::INFINITY), 0.0);
+    assert!(phi(f32::NAN).is_nan());
+    println!(
+        "phi: worst relative error {:.3} of the bound",
+        worst / tol::PHI_REL
+    );
+    assert!(worst <= tol::PHI_REL, "{worst:e}");
+}
+
+proptest! {
+    #[test]
+    fn integrate_step_matches_reference(
+        log_tau in -40.0f64..4.0, zero in any::<bool>(), c in [0.0f32..=1.0, 0.0f32..=1.0, 0.0f32..=1.0],
+        log_d in -4.0f64..2.0,
+    ) {
+        let tau = if zero { 0.0 } else { 10f64.powf(log_tau) as f32 };
+        let d = 10f64.powf(log_d) as f32;
+        let c_tau = c.map(|c| tau * c);
+        let got = integrate_step(c_tau, tau, d);
+        let want = reference::extinction_sample(
+            RefExtinction { tau: f64::from(tau), color_tau: c_tau.map(f64::from) },
+            f64::from(d),
+        );
+        let err = (0..3).map(|k| (f64::from(got.c[k]) - want.color[k]).abs())
+            .fold((f64::from(got.a) - want.alpha).abs(), f64::max);
+        prop_assert!(err <= tol::INTEGRATE_STEP_ABS, "tau={tau} d={d}: {err:e}");
+        prop_assert!(got.is_valid());
+    }
+
+    #[test]
+    fn extinction_from_straight_matches_f64(a in 0.0f32..1.0, c in 0.0f32..=1.0, d_ref in 0.01f32..100.0) {
+        let e = ExtinctionF32::from_straight(StraightF32 { c: [c; 3], a }, d_ref);
+        let depth = (-(-f64::from(a)).ln_1p()).min(64.0);
+        let want = depth / f64::from(d_ref);
+        let rel = if want == 0.0 { f64::from(e.tau) } else { (f64::from(e.tau) - want).abs() / want };
+        prop_assert!(rel <= tol::FROM_STRAIGHT_TAU_REL, "a={a}: {rel:e}");
+        prop_assert!(e.c_tau.iter().all(|&x| x <= e.tau));
+    }
+
+    #[test]
+    fn transfer_function_eval_matches_f64(
+        pts in prop::collection::vec((0.0f32..300.0, 0.0f32..=1.0, 0.0f32..=1.0), 2..6),
+        s in -10.0f32..310.0,
+    ) {
+        let mut pts = pts;
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        pts.dedup_by(|a, b| a.0 <= b.0 + 1e-3);
+        prop_assume!(pts.len() >= 2);
+        let cps: Vec<ControlPoint> = pts.iter().map(|&(s, c, a)| ControlPoint { s, c: [c; 3], a }).collect();
+        let tf = TransferFunction::<8>::new(&cps).unwrap();
+        let (c, a) = tf.eval(s);
+        // f64 piecewise linear.
+        let s64 = f64::from(s);
+        let i = cps.partition_point(|p| f64::from(p.s) <= s64);
+        let (want_c, want_a, slope) = if i == 0 {
+            (f64::from(cps[0].c[0]), f64::from(cps[0].a), 0.0)
+        } else if i == cps.len() {
+            (f64::from(cps[i - 1].c[0]), f64::from(cps[i - 1].a), 0.0)
+        } else {
+            let (lo, hi) = (cps[i - 1], cps[i]);
+            let w = f64::from(hi.s) - f64::from(lo.s);
+            let t = (s64 - f64::from(lo.s)) / w;
+            let l = (f64::from(hi.c[0] - lo.c[0]).abs()).max(f64::from(hi.a - lo.a).abs()) / w;
+            (f64::from(lo.c[0]) + t * f64::from(hi.c[0] - lo.c[0]), f64::from(lo.a) + t * f64::from(hi.a - lo.a), l)
+        };
+        let m = cps.iter().fold(s.abs(), |m, p| m.max(p.s.abs()));
+        let bound = tol::TF_EVAL_BASE + slope * tol::TF_EVAL_PER_SLOPE * f64::from(m);
+        let err = (f64::from(c[0]) - want_c).abs().max((f64::from(a) - want_a).abs());
+        prop_assert!(err <= bound, "s={s}: {err:e} > {bound:e}");
+    }
+
+    #[test]
+    fn trilinear_weights_match_products(f in [0.0f32..1.0, 0.0f32..1.0, 0.0f32..1.0]) {
+        let w = trilinear_weights(f);
+        let [x, y, z] = f.map(f64::from);
+        for (i, wi) in w.iter().enumerate() {
+            let ax = if i & 1 == 1 { x } else { 1.0 - x };
+            let ay = if i & 2 == 2 { y } else { 1.0 - y };
+            let az = if i & 4 == 4 { z } else { 1.0 - z };
+            let err = (f64::from(*wi) - ax * ay * az).abs();
+            prop_assert!(err <= tol::TRILINEAR_WEIGHT_ABS, "w[{i}]: {err:e}");
+        }
+    }
+
+    #[test]
+    fn isosurface_opacity_matches_reference(
+        f_v in 0.0f32..255.0, alpha_v in 0.0f32..=1.0, r in 0.1f32..4.0, f in 0.0f32..255.0, g in 0.0f32..100.0,
+    ) {
+        let iso = Isosurface::new(f_v, alpha_v, r).unwrap();
+        let want = reference::RefIsosurface { f_v: f64::from(f_v), alpha_v: f64::from(alpha_v), r: f64::from(r) }
+            .opacity(f64::from(f), f64::from(g));
+        let got = f64::from(iso.opacity(f, g));
+        // At the edge |f_v − f| = r·g the f32 comparison may fall on either side; both sides are
+        // within the bound of 0 there.
+        prop_assert!((got - want).abs() <= tol::ISOSURFACE_ABS, "{got} vs {want}");
+    }
+
+    #[test]
+    fn gradient_matches_reference(vals in prop::collection::vec(0.0f32..255.0, 27), p in [0usize..3, 0usize..3, 0usize..3]) {
+        let vol = Volume::new(&vals, [3, 3, 3]).unwrap();
+        let got = gradient(&vol, p[0], p[1], p[2]);
+        let want = reference::central_gradient([3, 3, 3], &vals.iter().map(|&v| f64::from(v)).collect::<Vec<_>>(), p);
+        let m = vals.iter().fold(0.0f32, |a, &b| a.max(b.abs()));
+        for k in 0..3 {
+            prop_assert!((f64::from(got[k]) - want[k]).abs() <= tol::GRADIENT_REL * f64::from(m));
+        }
+    }
+
+    #[test]
+    fn light_factor_matches_f64(
+        dir in [-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0], g in [-50.0f32..50.0, -50.0f32..50.0, -50.0f32..50.0],
+        ka in 0.0f32..1.0, kd in 0.0f32..1.0,
+    ) {
+        prop_assume!(dir.iter().map(|x| x * x).sum::<f32>() > 1e-3);
+        let light = Light::new(dir, ka, kd).unwrap();
+        let got = f64::from(light.factor(g));
+        let dn = dir.map(f64::from);
+        let dl = dn.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let gn = g.map(f64::from);
+        let gl = gn.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let cos = if gl > 0.0 { (gn.iter().zip(&dn).map(|(a, b)| a * b).sum::<f64>() / (gl * dl)).abs() } else { 1.0 };
+        let want = (f64::from(ka) + f64::from(kd) * cos.min(1.0)).min(1.0);
+        prop_assert!((got - want).abs() <= tol::LIGHT_FACTOR_ABS, "{got} vs {want}");
+    }
+}
