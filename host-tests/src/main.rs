@@ -237,7 +237,7 @@ fn run() -> Result<(), String> {
                 out: Some(out.clone()),
                 progress: true,
             })?;
-            print!("{}", report::format_table(&rows));
+            emit(&report::format_table(&rows))?;
             println!(
                 "per-scene rows, images and the error-vs-time plot: {}/",
                 out.display()
@@ -302,17 +302,20 @@ fn run() -> Result<(), String> {
             Ok(())
         }
         Command::Scenes => {
-            println!("{:<22} {:<44} effects", "scene", "description");
+            let mut text = format!("{:<22} {:<44} effects\n", "scene", "description");
             let mut all = generate::paper_scenes(true);
             all.extend(generate::tiny_scenes());
             for s in all {
-                println!("{:<22} {:<44} {}", s.name, s.description, s.effects());
+                text.push_str(&format!(
+                    "{:<22} {:<44} {}\n",
+                    s.name,
+                    s.description,
+                    s.effects()
+                ));
             }
-            Ok(())
+            emit(&text)
         }
-        Command::Demo => volsample_host::demo::run()
-            .map(|s| print!("{s}"))
-            .map_err(|e| e.to_string()),
+        Command::Demo => emit(&volsample_host::demo::run().map_err(|e| e.to_string())?),
         Command::Filters { levels } => volsample_host::filters::run(levels),
         Command::Kraus { out } => volsample_host::kraus::run(&out),
         Command::Vectors {
@@ -324,6 +327,17 @@ fn run() -> Result<(), String> {
         } => volsample_host::vectors::run(&kernel, count, seed, frac_bits, &out)
             .map(|s| println!("{s}"))
             .map_err(|e| e.to_string()),
+    }
+}
+
+/// Writes `text` to stdout; a closed pipe (`volsample scenes | head`) ends the output quietly
+/// instead of panicking.
+fn emit(text: &str) -> Result<(), String> {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(format!("stdout: {e}")),
+        _ => Ok(()),
     }
 }
 
