@@ -265,24 +265,41 @@ where
         height: usize,
         image: &mut [Sample],
     ) -> Result<(), Error> {
-        if width == 0 || height == 0 {
-            return Err(Error::EmptyImage);
-        }
-        let expected = width.checked_mul(height).ok_or(Error::ImageSizeMismatch {
-            expected: usize::MAX,
-            actual: image.len(),
-        })?;
-        if image.len() != expected {
-            return Err(Error::ImageSizeMismatch {
-                expected,
-                actual: image.len(),
-            });
-        }
-        for (j, row) in image.chunks_exact_mut(width).enumerate() {
-            for (i, px) in row.iter_mut().enumerate() {
-                *px = self.cast(&camera.ray(i, j, width, height));
-            }
-        }
-        Ok(())
+        trace_image(camera, width, height, image, |ray| self.cast(ray))
     }
+}
+
+/// Fills a `width × height` image (row-major, row 0 at the top) with `cast` of each pixel's
+/// ray, after checking the image size: the pixel loop shared by the float and the integer
+/// ray marchers.
+///
+/// # Errors
+/// [`Error::EmptyImage`] for a zero width or height, [`Error::ImageSizeMismatch`] unless
+/// `image.len() == width·height`.
+pub(crate) fn trace_image<P, Cam: Camera>(
+    camera: &Cam,
+    width: usize,
+    height: usize,
+    image: &mut [P],
+    cast: impl Fn(&Ray) -> P,
+) -> Result<(), Error> {
+    if width == 0 || height == 0 {
+        return Err(Error::EmptyImage);
+    }
+    let expected = width.checked_mul(height).ok_or(Error::ImageSizeMismatch {
+        expected: usize::MAX,
+        actual: image.len(),
+    })?;
+    if image.len() != expected {
+        return Err(Error::ImageSizeMismatch {
+            expected,
+            actual: image.len(),
+        });
+    }
+    for (j, row) in image.chunks_exact_mut(width).enumerate() {
+        for (i, px) in row.iter_mut().enumerate() {
+            *px = cast(&camera.ray(i, j, width, height));
+        }
+    }
+    Ok(())
 }

@@ -19,6 +19,7 @@ use super::DEFAULT_FRAC_BITS;
 use super::{check_frac_bits, IntCorrection, IntFilter, IntMode, IntPos, IntSample, IntSampler};
 use crate::error::Error;
 use crate::ray::{Camera, Ray};
+use crate::render::trace_image;
 use crate::render::{Step, MAX_SAMPLES_PER_RAY};
 use crate::volume::Volume;
 use crate::voxel::Voxel;
@@ -235,24 +236,6 @@ where
         height: usize,
         image: &mut [IntSample],
     ) -> Result<(), Error> {
-        if width == 0 || height == 0 {
-            return Err(Error::EmptyImage);
-        }
-        let expected = width.checked_mul(height).ok_or(Error::ImageSizeMismatch {
-            expected: usize::MAX,
-            actual: image.len(),
-        })?;
-        if image.len() != expected {
-            return Err(Error::ImageSizeMismatch {
-                expected,
-                actual: image.len(),
-            });
-        }
-        for (j, row) in image.chunks_exact_mut(width).enumerate() {
-            for (i, px) in row.iter_mut().enumerate() {
-                *px = self.cast(&camera.ray(i, j, width, height));
-            }
-        }
-        Ok(())
+        trace_image(camera, width, height, image, |ray| self.cast(ray))
     }
 }
