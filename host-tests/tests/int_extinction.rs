@@ -381,3 +381,30 @@ fn corpus_exercises_integer_kernel() {
     );
     assert_eq!(sizes.len(), EXTINCTION_TABLE_SIZES.len(), "{sizes:?}");
 }
+
+/// The `fixed` views of the integer extinction formats carry exactly the kernel's bits: U12.20
+/// optical depths (`D = raw/2^20`) and a U32.32 step ratio (round half up of `r·2^32`).
+#[test]
+fn fixed_crate_views_match_the_raw_formats() {
+    use volsample::fixed_point::{ExtinctionFx, IntRatio};
+    for a in [0u8, 1, 77, 128, 254, 255] {
+        let v = ExtinctionFx::from_straight_u8(volsample::StraightU8([200, 100, 0, a]));
+        assert_eq!(v.depth().to_bits(), v.tau);
+        assert_eq!(v.depth().to_num::<f64>(), f64::from(v.tau) / 1_048_576.0);
+        let want = (-(1.0 - f64::from(a) / 255.0).ln()).min(64.0);
+        assert!(
+            (v.depth().to_num::<f64>() - want).abs() <= 0.5 / 1_048_576.0 + 1e-12,
+            "a={a}"
+        );
+        for (f, raw) in v.depth_color().iter().zip(v.c_tau) {
+            assert_eq!(f.to_bits(), raw);
+        }
+    }
+    for r in [0.25f32, 0.5, 1.0, 1.7, 1000.0] {
+        let q = IntRatio::new(r).unwrap().to_fixed();
+        assert_eq!(
+            q.to_num::<f64>(),
+            (f64::from(r) * 4_294_967_296.0 + 0.5).floor() / 4_294_967_296.0
+        );
+    }
+}

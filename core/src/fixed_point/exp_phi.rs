@@ -91,6 +91,11 @@ pub struct IntRatio {
 }
 
 impl IntRatio {
+    /// The quantized ratio as a `fixed` U32.32 number (the same bits as the kernel uses).
+    pub fn to_fixed(&self) -> fixed::types::U32F32 {
+        fixed::types::U32F32::from_bits(self.raw)
+    }
+
     /// Quantizes `ratio = d/d′`. A ratio below `2^−33` quantizes to 0 (every integer step then
     /// has zero optical depth, within 0.001 LSB of the exact result).
     ///

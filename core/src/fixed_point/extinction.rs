@@ -67,6 +67,18 @@ fn depth_raw(a: f64) -> u32 {
 }
 
 impl ExtinctionFx {
+    /// The optical depth `D = τ·d′` as a `fixed` U12.20 number (the same bits as
+    /// [`tau`](Self::tau); values never exceed [`MAX_DEPTH_RAW`], i.e. 64).
+    pub fn depth(&self) -> fixed::types::U12F20 {
+        fixed::types::U12F20::from_bits(self.tau)
+    }
+
+    /// `D·C` per channel as `fixed` U12.20 numbers (the same bits as
+    /// [`c_tau`](Self::c_tau)).
+    pub fn depth_color(&self) -> [fixed::types::U12F20; 3] {
+        self.c_tau.map(fixed::types::U12F20::from_bits)
+    }
+
     /// The fixed-point extinction form of a straight `u8` voxel (opacity for `d′`).
     ///
     /// Error bound: `D` within `2^−21` of `min(−ln(1 − α/255), 64)` and each `D·C` within
