@@ -8,6 +8,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::hint::black_box;
+use std::time::Instant;
 use volsample::classify::{classify_transfer, Isosurface};
 use volsample::shade::{shade_in_place, Light};
 use volsample::{
@@ -20,6 +21,8 @@ use volsample_host::scene::{generate, Classification, Scene, VolumeData};
 
 const N: usize = 48;
 const W: usize = 64;
+/// Alternating bare/pipeline frame pairs for the interleaved ratio.
+const PAIRS: usize = 101;
 
 fn volume() -> (Vec<f32>, Vec<StraightF32>, Vec<volsample::ControlPoint>) {
     let c = (N as f32 - 1.0) * 0.5;
@@ -121,9 +124,38 @@ fn bench(c: &mut Criterion) {
         precision: Precision::F32,
         filter: FilterKind::TrilinearSum,
     };
+    // The frame of a built pipeline (what a viewer pays per image), and building it (per
+    // scene and method: conversion and validation of the voxels).
     g.bench_function("scene pipeline, no stage", |b| {
-        b.iter(|| black_box(pipeline::render(&scene, &prepared, method).unwrap()))
+        pipeline::with_pipeline(&scene, &prepared, method, |p| {
+            b.iter(|| p.frame(black_box(&mut image)).unwrap())
+        })
+        .unwrap()
     });
+
+    // On a shared machine the load drifts between two criterion runs; alternate the two
+    // frames instead and print the median of the per-pair ratios (one run, same load).
+    pipeline::with_pipeline(&scene, &prepared, method, |p| {
+        let mut ratios: Vec<f64> = (0..PAIRS)
+            .map(|_| {
+                let t = Instant::now();
+                bare.render_into(&cam, W, W, black_box(&mut image)).unwrap();
+                let t_bare = t.elapsed().as_secs_f64();
+                let t = Instant::now();
+                p.frame(black_box(&mut image)).unwrap();
+                t.elapsed().as_secs_f64() / t_bare
+            })
+            .collect();
+        ratios.sort_by(f64::total_cmp);
+        println!(
+            "stages/interleaved: pipeline (no stage) / bare kernel, median of {PAIRS} pairs: {:.4} \
+             (quartiles {:.4} .. {:.4})",
+            ratios[PAIRS / 2],
+            ratios[PAIRS / 4],
+            ratios[3 * PAIRS / 4]
+        );
+    })
+    .unwrap();
 
     // + opacity correction (d = 0.5, d' = 1).
     let corr = RayMarcher::new(
@@ -190,6 +222,15 @@ fn bench(c: &mut Criterion) {
     .unwrap();
     g.bench_function("post-classification (TF per sample)", |b| {
         b.iter(|| pc.render_into(&cam, W, W, black_box(&mut image)).unwrap())
+    });
+    g.finish();
+
+    // Building a pipeline, per voxel.
+    let mut g = c.benchmark_group("pipeline build");
+    g.throughput(Throughput::Elements((N * N * N) as u64));
+    g.sample_size(10);
+    g.bench_function("validate + choose stages (OW f32)", |b| {
+        b.iter(|| pipeline::with_pipeline(&scene, &prepared, method, |p| black_box(p.image())))
     });
     g.finish();
 

@@ -4,11 +4,17 @@
 //! Opacity correction is on exactly when `d ≠ d′` (and the mode is opacity-based), early
 //! termination exactly when `A_stop < 1`, and the background is composited once per ray; the
 //! core picks the first two by type ([`volsample::RayMarcher`]), so an absent stage has no
-//! code in the inner loop.
+//! code in the inner loop (the integer pipeline is the core's
+//! [`IntRayMarcher`](volsample::fixed_point::IntRayMarcher)).
+//!
+//! [`with_pipeline`] builds a pipeline once (storage conversion and validation, `O(voxels)`)
+//! and renders any number of frames with it (`O(samples)`); [`render`] times one frame.
 
 use std::time::Instant;
 
-use volsample::fixed_point::{self, IntCorrection, IntPos, IntSample, IntSampler, IntStop, ONE};
+use volsample::fixed_point::{
+    self, ExtinctionFx, ExtinctionTables, IntExtinction, IntRayMarcher, IntSample, IntStop, ONE,
+};
 use volsample::voxel::Voxel;
 use volsample::{
     AssociatedU8, Camera, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack, Mode, Nearest,
@@ -109,8 +115,9 @@ impl Method {
     }
 
     /// Whether the method exists for this scene (post-classification needs a transfer
-    /// function; the integer kernels cover nearest and trilinear for the opacity-based
-    /// RGBA modes).
+    /// function; the integer kernels cover nearest and trilinear for the RGBA modes with
+    /// 8-bit storage: `Separate`, `OpacityWeighted`, `PreweightedU8`, and `ExtinctionWeighted`
+    /// on `(τ, C^τ)` fixed point converted from the 8-bit straight voxels).
     pub fn available(&self, scene_has_tf: bool) -> bool {
         let mode_ok = self.mode != ModeChoice::PostClassified || scene_has_tf;
         let int_ok = match self.precision {
@@ -118,7 +125,10 @@ impl Method {
             Precision::Int8 => {
                 matches!(
                     self.mode,
-                    ModeChoice::Separate | ModeChoice::OpacityWeighted | ModeChoice::PreweightedU8
+                    ModeChoice::Separate
+                        | ModeChoice::OpacityWeighted
+                        | ModeChoice::PreweightedU8
+                        | ModeChoice::ExtinctionWeighted
                 ) && matches!(self.filter, FilterKind::Nearest | FilterKind::TrilinearSum)
             }
         };
@@ -199,6 +209,7 @@ impl Cam {
         })
     }
 
+    #[inline]
     fn ray(&self, i: usize, j: usize, w: usize, h: usize) -> volsample::Ray {
         match self {
             Cam::Ortho(c) => c.ray(i, j, w, h),
@@ -207,139 +218,204 @@ impl Cam {
     }
 }
 
-fn float_render<V: Voxel, M: Mode<V> + Copy, F: Filter>(
+/// A built pipeline: the voxels converted to the method's storage and validated, the kernels
+/// and stages chosen, the camera set up. What is left per frame is the ray marching.
+pub trait Frames {
+    /// Image width and height.
+    fn image(&self) -> [usize; 2];
+
+    /// Renders one frame into `pixels` (row-major, row 0 at the top), returning the number of
+    /// samples taken (early termination included).
+    ///
+    /// # Errors
+    /// [`volsample::Error::ImageSizeMismatch`] unless `pixels` holds `width·height` pixels.
+    fn frame(&self, pixels: &mut [Sample]) -> Result<u64, volsample::Error>;
+}
+
+/// The pixel loop shared by the float and the integer frames.
+#[inline(always)]
+fn fill(
+    cam: &Cam,
+    [w, h]: [usize; 2],
+    pixels: &mut [Sample],
+    cast: impl Fn(&volsample::Ray) -> (Sample, u32),
+) -> Result<u64, volsample::Error> {
+    if pixels.len() != w * h {
+        return Err(volsample::Error::ImageSizeMismatch {
+            expected: w * h,
+            actual: pixels.len(),
+        });
+    }
+    let mut samples = 0u64;
+    for (j, row) in pixels.chunks_exact_mut(w).enumerate() {
+        for (i, px) in row.iter_mut().enumerate() {
+            let (s, n) = cast(&cam.ray(i, j, w, h));
+            *px = s;
+            samples += u64::from(n);
+        }
+    }
+    Ok(samples)
+}
+
+struct FloatFrames<'v, V, M, F, O> {
+    marcher: RayMarcher<'v, V, M, F, O>,
+    cam: Cam,
+    image: [usize; 2],
+}
+
+impl<V: Voxel, M: Mode<V>, F: Filter, O: volsample::composite::Order> Frames
+    for FloatFrames<'_, V, M, F, O>
+{
+    fn image(&self) -> [usize; 2] {
+        self.image
+    }
+
+    fn frame(&self, pixels: &mut [Sample]) -> Result<u64, volsample::Error> {
+        fill(&self.cam, self.image, pixels, |ray| {
+            self.marcher.cast_counted(ray)
+        })
+    }
+}
+
+struct IntFrames<'v, V, M, Fl> {
+    marcher: IntRayMarcher<'v, V, M, Fl, INT_FRAC_BITS>,
+    cam: Cam,
+    image: [usize; 2],
+}
+
+impl<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter> Frames
+    for IntFrames<'_, V, M, Fl>
+{
+    fn image(&self) -> [usize; 2] {
+        self.image
+    }
+
+    fn frame(&self, pixels: &mut [Sample]) -> Result<u64, volsample::Error> {
+        fill(&self.cam, self.image, pixels, |ray| {
+            let (s, n) = self.marcher.cast_counted(ray);
+            (s.to_f32(), n)
+        })
+    }
+}
+
+/// Fractional position bits of the report's integer pipeline.
+pub const INT_FRAC_BITS: u32 = 8;
+
+/// Table size of the report's integer extinction mode (`0.56`/`1.06` LSB table bound).
+pub const INT_EXTINCTION_TABLE: usize = 257;
+
+/// A U8.8 value of a unit float, **round half up**: `⌊ONE·x + ½⌋` (clamped to `[0, 1]`).
+fn to_u88(x: f32) -> u16 {
+    (f64::from(x.clamp(0.0, 1.0)) * f64::from(ONE) + 0.5).floor() as u16
+}
+
+/// The scene's associated background in U8.8 (each channel round half up, capped at `A`).
+///
+/// # Errors
+/// None in practice: the capped value is always a valid [`IntSample`].
+pub fn int_background(bg: Sample) -> Result<IntSample, volsample::Error> {
+    let a = to_u88(bg.a);
+    IntSample::new(bg.c.map(|c| to_u88(c).min(a)), a)
+}
+
+fn float_build<V: Voxel, M: Mode<V> + Copy, F: Filter, T>(
     scene: &Scene,
     data: &[V],
     mode: M,
     filter: F,
-) -> Result<Rendered, volsample::Error> {
+    body: impl FnOnce(&dyn Frames) -> T,
+) -> Result<T, volsample::Error> {
     let vol = Volume::new(data, scene.dims)?.with_reference_distance(scene.d_ref)?;
     let step = Step::new(scene.step)?.with_phase(scene.phase)?;
+    let cam = Cam::new(&scene.camera)?;
+    let image = scene.image;
     if scene.a_stop < 1.0 {
         let order = FrontToBack::with_threshold(scene.a_stop)?;
-        let m =
+        let marcher =
             RayMarcher::new(vol, mode, filter, order, step)?.with_background(scene.background)?;
-        trace(scene, |ray| m.cast_counted(ray))
+        Ok(body(&FloatFrames {
+            marcher,
+            cam,
+            image,
+        }))
     } else {
-        let m = RayMarcher::new(vol, mode, filter, FrontToBack::new(), step)?
+        let marcher = RayMarcher::new(vol, mode, filter, FrontToBack::new(), step)?
             .with_background(scene.background)?;
-        trace(scene, |ray| m.cast_counted(ray))
+        Ok(body(&FloatFrames {
+            marcher,
+            cam,
+            image,
+        }))
     }
 }
 
-fn trace(
-    scene: &Scene,
-    cast: impl Fn(&volsample::Ray) -> (Sample, u32),
-) -> Result<Rendered, volsample::Error> {
-    let cam = Cam::new(&scene.camera)?;
-    let [w, h] = scene.image;
-    let mut pixels = vec![Sample::TRANSPARENT; w * h];
-    let mut samples = 0u64;
-    let start = Instant::now();
-    for (k, px) in pixels.iter_mut().enumerate() {
-        let (s, n) = cast(&cam.ray(k % w, k / w, w, h));
-        *px = s;
-        samples += u64::from(n);
-    }
-    let seconds = start.elapsed().as_secs_f64();
-    Ok(Rendered {
-        pixels,
-        samples,
-        seconds,
-    })
-}
-
-fn int_render<V: Voxel, M: fixed_point::IntMode<V> + Copy, Fl: fixed_point::IntFilter>(
+fn int_build<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter, T>(
     scene: &Scene,
     data: &[V],
     mode: M,
     filter: Fl,
-) -> Result<Rendered, volsample::Error> {
-    // The integer path: positions from the same f32 rays, quantised (round half up) to
-    // F = 8 bits after clamping into the grid (exact under clamp-to-edge), integer samples,
-    // table-driven correction when d ≠ d′, integer front-to-back with early stop.
-    let vol = Volume::new(data, scene.dims)?;
-    let sampler = IntSampler::new(vol, mode, filter);
-    let ratio = scene.step / scene.d_ref;
-    let correction = if ratio != 1.0 {
-        Some(IntCorrection::new(ratio)?)
-    } else {
-        None
-    };
+    body: impl FnOnce(&dyn Frames) -> T,
+) -> Result<T, volsample::Error> {
+    // The core's integer pipeline: positions from the same f32 rays, clamped into the grid
+    // and quantised (round half up) to F = 8 bits, integer samples, table-driven correction
+    // when d ≠ d′ (opacity-based modes), integer front-to-back with early stop, and the
+    // background composited in U8.8.
+    let vol = Volume::new(data, scene.dims)?.with_reference_distance(scene.d_ref)?;
+    let step = Step::new(scene.step)?.with_phase(scene.phase)?;
     let stop = if scene.a_stop < 1.0 {
-        IntStop::new((scene.a_stop * f32::from(ONE)) as u16)?
+        IntStop::new(to_u88(scene.a_stop))?
     } else {
         IntStop::NEVER
     };
-    let dims = scene.dims;
-    let hi = dims.map(|n| n as f32 - 1.0);
-    let (d, phase) = (scene.step, scene.phase);
-    let bg = scene.background;
-    let cast = |ray: &volsample::Ray| -> (Sample, u32) {
-        let Some((t0, t1)) = ray.clip(dims) else {
-            return (bg, 0);
-        };
-        let k0 = (t0 / d - phase).ceil();
-        let n = ((t1 / d - phase).ceil() - k0).max(0.0) as u32;
-        let t_first = (k0 + phase) * d;
-        let mut acc = IntSample::TRANSPARENT;
-        let mut used = 0u32;
-        for j in 0..n {
-            if acc.a() >= stop.a_stop() {
-                break;
-            }
-            let p = ray.at(t_first + j as f32 * d);
-            let p = [0, 1, 2].map(|k| p[k].clamp(0.0, hi[k]));
-            let Ok(pos) = IntPos::<8>::quantize(p) else {
-                continue;
-            };
-            let mut s = sampler.sample(pos);
-            if let Some(c) = &correction {
-                s = c.apply(s);
-            }
-            acc = fixed_point::front_to_back(acc, s);
-            used += 1;
-        }
-        (volsample::composite::over(acc.to_f32(), bg), used)
-    };
-    trace(scene, cast)
+    let marcher = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(vol, mode, filter, stop, step)?
+        .with_background(int_background(scene.background)?);
+    Ok(body(&IntFrames {
+        marcher,
+        cam: Cam::new(&scene.camera)?,
+        image: scene.image,
+    }))
 }
 
-/// Renders `scene` (already [`prepare`](Scene::prepare)d) with `method`.
+/// Builds the pipeline of `method` for `scene` (already [`prepare`](Scene::prepare)d) —
+/// storage conversion, validation, stage choice — and hands it to `body`, which renders as
+/// many frames as it likes. Building is `O(voxels)`; a frame is `O(samples)`.
 ///
 /// # Errors
 /// As the core reports them for the scene's parameters; [`volsample::Error::InvalidClassifier`]
-/// for `PostClassified` on a scene without a transfer function.
-pub fn render(
+/// for a method the scene does not offer ([`Method::available`]).
+pub fn with_pipeline<T>(
     scene: &Scene,
     prepared: &Prepared,
     method: Method,
-) -> Result<Rendered, volsample::Error> {
+    body: impl FnOnce(&dyn Frames) -> T,
+) -> Result<T, volsample::Error> {
     macro_rules! with_filter {
-        ($f:ident, $data:expr, $mode:expr) => {
+        ($data:expr, $mode:expr) => {
             match method.filter {
-                FilterKind::Nearest => $f(scene, $data, $mode, Nearest),
-                FilterKind::TrilinearTree => $f(scene, $data, $mode, Trilinear::tree()),
-                FilterKind::TrilinearSum => $f(scene, $data, $mode, Trilinear::new()),
-                FilterKind::BSpline => $f(scene, $data, $mode, TriquadraticBSpline),
+                FilterKind::Nearest => float_build(scene, $data, $mode, Nearest, body),
+                FilterKind::TrilinearTree => {
+                    float_build(scene, $data, $mode, Trilinear::tree(), body)
+                }
+                FilterKind::TrilinearSum => {
+                    float_build(scene, $data, $mode, Trilinear::new(), body)
+                }
+                FilterKind::BSpline => float_build(scene, $data, $mode, TriquadraticBSpline, body),
             }
         };
     }
     macro_rules! with_int_filter {
         ($data:expr, $mode:expr) => {
             match method.filter {
-                FilterKind::Nearest => int_render(scene, $data, $mode, Nearest),
-                FilterKind::TrilinearSum => int_render(scene, $data, $mode, Trilinear::new()),
+                FilterKind::Nearest => int_build(scene, $data, $mode, Nearest, body),
+                FilterKind::TrilinearSum => int_build(scene, $data, $mode, Trilinear::new(), body),
                 _ => Err(volsample::Error::InvalidClassifier),
             }
         };
     }
     match (method.precision, method.mode) {
-        (Precision::F32, ModeChoice::Separate) => {
-            with_filter!(float_render, &prepared.rgba, Separate)
-        }
+        (Precision::F32, ModeChoice::Separate) => with_filter!(&prepared.rgba, Separate),
         (Precision::F32, ModeChoice::OpacityWeighted) => {
-            with_filter!(float_render, &prepared.rgba, OpacityWeighted)
+            with_filter!(&prepared.rgba, OpacityWeighted)
         }
         (Precision::F32, ModeChoice::Preweighted) => {
             let a: Vec<_> = prepared
@@ -347,10 +423,10 @@ pub fn render(
                 .iter()
                 .map(|&v| volsample::AssociatedF32::from_straight(v))
                 .collect();
-            with_filter!(float_render, &a, Preweighted)
+            with_filter!(&a, Preweighted)
         }
         (Precision::F32, ModeChoice::PreweightedU8) => {
-            with_filter!(float_render, &associated_u8(&prepared.rgba), Preweighted)
+            with_filter!(&associated_u8(&prepared.rgba), Preweighted)
         }
         (Precision::F32, ModeChoice::ExtinctionWeighted) => {
             let e: Vec<_> = prepared
@@ -358,7 +434,7 @@ pub fn render(
                 .iter()
                 .map(|&v| ExtinctionF32::from_straight(v, scene.d_ref))
                 .collect();
-            with_filter!(float_render, &e, ExtinctionWeighted)
+            with_filter!(&e, ExtinctionWeighted)
         }
         (Precision::F32, ModeChoice::PostClassified) => {
             let (s, points) = prepared
@@ -366,7 +442,7 @@ pub fn render(
                 .as_ref()
                 .ok_or(volsample::Error::InvalidClassifier)?;
             let tf = TransferFunction::<64>::new(points)?;
-            with_filter!(float_render, s, PostClassified::new(&tf))
+            with_filter!(s, PostClassified::new(&tf))
         }
         (Precision::Int8, ModeChoice::Separate) => {
             with_int_filter!(&straight_u8(&prepared.rgba), Separate)
@@ -377,6 +453,41 @@ pub fn render(
         (Precision::Int8, ModeChoice::PreweightedU8) => {
             with_int_filter!(&associated_u8(&prepared.rgba), Preweighted)
         }
+        (Precision::Int8, ModeChoice::ExtinctionWeighted) => {
+            // The integer extinction mode reads the same 8-bit straight storage as the other
+            // integer modes, converted once to (τ, C^τ) fixed point.
+            let e: Vec<_> = straight_u8(&prepared.rgba)
+                .into_iter()
+                .map(ExtinctionFx::from_straight_u8)
+                .collect();
+            let tables = ExtinctionTables::<INT_EXTINCTION_TABLE>::new();
+            let mode = IntExtinction::new(&tables, 1.0)?;
+            with_int_filter!(&e, mode)
+        }
         (Precision::Int8, _) => Err(volsample::Error::InvalidClassifier),
     }
+}
+
+/// Renders one frame of `scene` (already [`prepare`](Scene::prepare)d) with `method`; the
+/// time is that of the frame only (building the pipeline is not timed).
+///
+/// # Errors
+/// As [`with_pipeline`].
+pub fn render(
+    scene: &Scene,
+    prepared: &Prepared,
+    method: Method,
+) -> Result<Rendered, volsample::Error> {
+    with_pipeline(scene, prepared, method, |p| {
+        let [w, h] = p.image();
+        let mut pixels = vec![Sample::TRANSPARENT; w * h];
+        let start = Instant::now();
+        let samples = p.frame(&mut pixels)?;
+        let seconds = start.elapsed().as_secs_f64();
+        Ok(Rendered {
+            pixels,
+            samples,
+            seconds,
+        })
+    })?
 }

@@ -1,0 +1,323 @@
+//! The scene pipeline is the core's kernels and nothing else: its frames are bit-identical to
+//! the core's float [`RayMarcher`] and integer [`IntRayMarcher`] on the same scene, with every
+//! stage (correction, termination, background) in play, and it rejects what it cannot build.
+
+use volsample::fixed_point::{
+    ExtinctionFx, ExtinctionTables, IntExtinction, IntRayMarcher, IntSample, IntStop,
+};
+use volsample::{
+    Camera, FrontToBack, Nearest, OpacityWeighted, Orthographic, Preweighted, RayMarcher, Sample,
+    Separate, Step, Trilinear, Volume,
+};
+use volsample_host::float_checks::{CameraSpec, FilterKind};
+use volsample_host::pipeline::{
+    self, associated_u8, int_background, straight_u8, Method, ModeChoice, Precision,
+    INT_EXTINCTION_TABLE, INT_FRAC_BITS,
+};
+use volsample_host::scene::generate::{self, RED_AIR};
+use volsample_host::scene::{Prepared, Scene};
+
+/// A semi-transparent ball in red air, stepped at `d = 0.4`, `d′ = 0.5` (correction), with
+/// early termination at 0.9 and a black background: every stage is present.
+fn scene() -> (Scene, Prepared) {
+    let mut s = generate::ball_in_air(12, RED_AIR, "red");
+    s.step = 0.4;
+    s.d_ref = 0.5;
+    s.a_stop = 0.9;
+    s.background = generate::BLACK_BG;
+    s.image = [12, 10];
+    let p = s.prepare().expect("scene prepares");
+    (s, p)
+}
+
+fn camera(s: &Scene) -> Orthographic {
+    match s.camera {
+        CameraSpec::Orthographic(e, d, u, x) => Orthographic::new(e, d, u, x).unwrap(),
+        CameraSpec::Perspective(..) => panic!("the ball scene looks orthographically"),
+    }
+}
+
+fn pipeline_frame(s: &Scene, p: &Prepared, m: Method) -> (Vec<Sample>, u64) {
+    pipeline::with_pipeline(s, p, m, |f| {
+        let [w, h] = f.image();
+        let mut px = vec![Sample::TRANSPARENT; w * h];
+        let n = f.frame(&mut px).expect("frame renders");
+        (px, n)
+    })
+    .expect("pipeline builds")
+}
+
+/// Renders with the core marcher directly: pixels and the total sample count.
+fn direct<R>(
+    s: &Scene,
+    cast: impl Fn(&volsample::Ray) -> (R, u32),
+    to: impl Fn(R) -> Sample,
+) -> (Vec<Sample>, u64) {
+    let cam = camera(s);
+    let [w, h] = s.image;
+    let mut n = 0u64;
+    let mut px = Vec::new();
+    for j in 0..h {
+        for i in 0..w {
+            let (r, k) = cast(&cam.ray(i, j, w, h));
+            px.push(to(r));
+            n += u64::from(k);
+        }
+    }
+    (px, n)
+}
+
+fn method(mode: ModeChoice, precision: Precision, filter: FilterKind) -> Method {
+    Method {
+        mode,
+        precision,
+        filter,
+    }
+}
+
+fn assert_same(a: &(Vec<Sample>, u64), b: &(Vec<Sample>, u64), what: &str) {
+    assert_eq!(a.1, b.1, "{what}: sample counts");
+    assert!(a.1 > 0, "{what}: the scene takes samples");
+    for (k, (x, y)) in a.0.iter().zip(&b.0).enumerate() {
+        assert_eq!(x, y, "{what}: pixel {k}");
+    }
+}
+
+#[test]
+fn float_frames_are_the_core_ray_marcher() {
+    let (s, p) = scene();
+    let vol = Volume::new(&p.rgba, s.dims)
+        .unwrap()
+        .with_reference_distance(s.d_ref)
+        .unwrap();
+    let step = Step::new(s.step).unwrap();
+    let order = FrontToBack::with_threshold(s.a_stop).unwrap();
+    let m = RayMarcher::new(vol, OpacityWeighted, Trilinear::new(), order, step)
+        .unwrap()
+        .with_background(s.background)
+        .unwrap();
+    assert!(m.correction().is_some());
+    let want = direct(&s, |r| m.cast_counted(r), |x| x);
+    let got = pipeline_frame(
+        &s,
+        &p,
+        method(
+            ModeChoice::OpacityWeighted,
+            Precision::F32,
+            FilterKind::TrilinearSum,
+        ),
+    );
+    assert_same(&got, &want, "OW f32 trilinear");
+    let m = RayMarcher::new(vol, Separate, Nearest, order, step)
+        .unwrap()
+        .with_background(s.background)
+        .unwrap();
+    let want = direct(&s, |r| m.cast_counted(r), |x| x);
+    let got = pipeline_frame(
+        &s,
+        &p,
+        method(ModeChoice::Separate, Precision::F32, FilterKind::Nearest),
+    );
+    assert_same(&got, &want, "Separate f32 nearest");
+}
+
+#[test]
+fn integer_frames_are_the_core_int_ray_marcher() {
+    let (s, p) = scene();
+    let step = Step::new(s.step).unwrap();
+    let stop = IntStop::new((0.9f64 * 65280.0 + 0.5).floor() as u16).unwrap();
+    let bg = int_background(s.background).unwrap();
+    assert_eq!(bg, IntSample::new([0; 3], 65280).unwrap());
+    let to = |x: IntSample| x.to_f32();
+
+    let straight = straight_u8(&p.rgba);
+    let vol = Volume::new(&straight, s.dims)
+        .unwrap()
+        .with_reference_distance(s.d_ref)
+        .unwrap();
+    let m = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        stop,
+        step,
+    )
+    .unwrap()
+    .with_background(bg);
+    assert!(m.correction().is_some());
+    let want = direct(&s, |r| m.cast_counted(r), to);
+    let got = pipeline_frame(
+        &s,
+        &p,
+        method(
+            ModeChoice::OpacityWeighted,
+            Precision::Int8,
+            FilterKind::TrilinearSum,
+        ),
+    );
+    assert_same(&got, &want, "OW int trilinear");
+
+    let m = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(vol, Separate, Nearest, stop, step)
+        .unwrap()
+        .with_background(bg);
+    let want = direct(&s, |r| m.cast_counted(r), to);
+    let got = pipeline_frame(
+        &s,
+        &p,
+        method(ModeChoice::Separate, Precision::Int8, FilterKind::Nearest),
+    );
+    assert_same(&got, &want, "Separate int nearest");
+
+    let assoc = associated_u8(&p.rgba);
+    let avol = Volume::new(&assoc, s.dims)
+        .unwrap()
+        .with_reference_distance(s.d_ref)
+        .unwrap();
+    let m = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(
+        avol,
+        Preweighted,
+        Trilinear::new(),
+        stop,
+        step,
+    )
+    .unwrap()
+    .with_background(bg);
+    let want = direct(&s, |r| m.cast_counted(r), to);
+    let got = pipeline_frame(
+        &s,
+        &p,
+        method(
+            ModeChoice::PreweightedU8,
+            Precision::Int8,
+            FilterKind::TrilinearSum,
+        ),
+    );
+    assert_same(&got, &want, "Preweighted-u8 int trilinear");
+
+    let ext: Vec<ExtinctionFx> = straight
+        .iter()
+        .map(|&v| ExtinctionFx::from_straight_u8(v))
+        .collect();
+    let evol = Volume::new(&ext, s.dims)
+        .unwrap()
+        .with_reference_distance(s.d_ref)
+        .unwrap();
+    let tables = ExtinctionTables::<INT_EXTINCTION_TABLE>::new();
+    let m = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(
+        evol,
+        IntExtinction::new(&tables, 1.0).unwrap(),
+        Trilinear::new(),
+        stop,
+        step,
+    )
+    .unwrap()
+    .with_background(bg);
+    // The extinction mode folds d/d′ into the optical depth: no separate correction.
+    assert!(m.correction().is_none());
+    let want = direct(&s, |r| m.cast_counted(r), to);
+    let got = pipeline_frame(
+        &s,
+        &p,
+        method(
+            ModeChoice::ExtinctionWeighted,
+            Precision::Int8,
+            FilterKind::TrilinearSum,
+        ),
+    );
+    assert_same(&got, &want, "Extinction int trilinear");
+}
+
+/// The termination stage really ends rays early in the integer pipeline (so the equality
+/// above covers it), and not at all without a threshold.
+#[test]
+fn integer_termination_shortens_rays() {
+    let (mut s, p) = scene();
+    let m = method(
+        ModeChoice::OpacityWeighted,
+        Precision::Int8,
+        FilterKind::TrilinearSum,
+    );
+    for px in &mut s.image {
+        *px = 8;
+    }
+    let early = pipeline_frame(&s, &p, m).1;
+    s.a_stop = 1.0;
+    let full = pipeline_frame(&s, &p, m).1;
+    assert!(early < full, "{early} < {full}");
+}
+
+#[test]
+fn pipeline_rejects_what_it_cannot_build() {
+    let (s, p) = scene();
+    for m in [
+        method(
+            ModeChoice::PostClassified,
+            Precision::F32,
+            FilterKind::TrilinearSum,
+        ),
+        method(
+            ModeChoice::OpacityWeighted,
+            Precision::Int8,
+            FilterKind::BSpline,
+        ),
+        method(
+            ModeChoice::Preweighted,
+            Precision::Int8,
+            FilterKind::Nearest,
+        ),
+    ] {
+        assert!(!m.available(false), "{}", m.label());
+        let r = pipeline::with_pipeline(&s, &p, m, |_| ());
+        assert_eq!(r, Err(volsample::Error::InvalidClassifier), "{}", m.label());
+    }
+    let mut bad = s.clone();
+    bad.step = 0.0;
+    let m = method(
+        ModeChoice::OpacityWeighted,
+        Precision::Int8,
+        FilterKind::Nearest,
+    );
+    assert!(matches!(
+        pipeline::with_pipeline(&bad, &p, m, |_| ()),
+        Err(volsample::Error::InvalidStep)
+    ));
+}
+
+#[test]
+fn frames_reject_a_wrong_pixel_buffer() {
+    let (s, p) = scene();
+    for precision in [Precision::F32, Precision::Int8] {
+        let m = method(ModeChoice::OpacityWeighted, precision, FilterKind::Nearest);
+        let r = pipeline::with_pipeline(&s, &p, m, |f| {
+            let mut px = vec![Sample::TRANSPARENT; 3];
+            f.frame(&mut px)
+        })
+        .unwrap();
+        assert_eq!(
+            r,
+            Err(volsample::Error::ImageSizeMismatch {
+                expected: 120,
+                actual: 3
+            })
+        );
+    }
+}
+
+/// Every method the report lists for a scene builds and renders finite pixels.
+#[test]
+fn every_listed_method_builds() {
+    let (s, p) = scene();
+    for m in Method::all(p.post.is_some(), true) {
+        let (px, n) = pipeline_frame(&s, &p, m);
+        assert!(n > 0, "{}", m.label());
+        assert!(
+            px.iter()
+                .all(|x| x.a.is_finite() && x.c.iter().all(|c| c.is_finite())),
+            "{}",
+            m.label()
+        );
+    }
+    assert!(Method::all(false, false)
+        .iter()
+        .any(|m| m.mode == ModeChoice::ExtinctionWeighted && m.precision == Precision::Int8));
+}
