@@ -89,14 +89,17 @@ pub enum Error {
     InvalidIntSample,
     /// A downsampling filter's outer weight `a` is not finite or not in `[0, ½]`.
     InvalidDownsampleFilter,
-    /// An output buffer (a downsampled level or a mipmap chain) does not hold the number of
-    /// voxels the level or chain needs.
+    /// An output buffer (a downsampled level or a mipmap chain: voxels; an occupancy grid:
+    /// bytes) does not hold the number of elements it needs.
     OutputLengthMismatch {
         /// The voxels needed.
         expected: usize,
         /// The buffer length given.
         actual: usize,
     },
+    /// An occupancy grid's brick size exponent exceeds
+    /// [`MAX_BRICK_LOG2`](crate::skip::MAX_BRICK_LOG2).
+    InvalidBrickSize,
 }
 
 impl fmt::Display for Error {
@@ -163,8 +166,9 @@ impl fmt::Display for Error {
             }
             Error::OutputLengthMismatch { expected, actual } => write!(
                 f,
-                "output buffer holds {actual} voxels but the level or chain needs {expected}"
+                "output buffer holds {actual} elements but needs {expected}"
             ),
+            Error::InvalidBrickSize => f.write_str("the brick size exponent must be at most 8"),
         }
     }
 }

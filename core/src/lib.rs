@@ -46,6 +46,7 @@ pub mod ray;
 pub mod render;
 pub mod sample;
 pub mod shade;
+pub mod skip;
 pub mod transfer;
 pub mod volume;
 pub mod voxel;

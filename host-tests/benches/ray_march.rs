@@ -14,6 +14,9 @@
 //! defined for the step (`d′ = d = 0.5`), so no opacity-correction stage runs: this measures
 //! reconstruction plus compositing, the work the target names.
 //!
+//! Empty space: the same volume cut to a ball in air, marched with and without empty-space
+//! skipping (`volsample::skip`), and the grid's lookup cost where nothing is empty.
+//!
 //! `VOLSAMPLE_BENCH_QUICK=1` shortens the measurement (for a quick look, not for the table).
 
 use std::hint::black_box;
@@ -21,6 +24,7 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use volsample::fixed_point::{IntRayMarcher, IntStop};
+use volsample::skip::Occupancy;
 use volsample::{
     ExtinctionF32, ExtinctionWeighted, FrontToBack, OpacityWeighted, Ray, RayMarcher, Separate,
     Step, StraightF32, StraightU8, Trilinear, Volume,
@@ -206,6 +210,75 @@ fn bench(c: &mut Criterion) {
                 let mut s = 0.0f32;
                 for r in &rays64 {
                     let p = ow64.cast(r);
+                    s += p.a + p.c[0];
+                }
+                black_box(s)
+            })
+        });
+    }
+
+    {
+        // Empty space: the same volume cut to a ball of radius 0.3·n in transparent air, so
+        // most samples of most rays fall in air. With and without an occupancy grid of 8³
+        // bricks (bit-identical results, `tests/skipping.rs`); throughput counts every
+        // sample position, skipped or not.
+        let c = 127.5f32;
+        let ball: Vec<StraightU8> = v256
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                let (x, y, z) = (k % 256, (k / 256) % 256, k / 65536);
+                let r2 = (x as f32 - c).powi(2) + (y as f32 - c).powi(2) + (z as f32 - c).powi(2);
+                if r2 <= (0.3f32 * 256.0).powi(2) {
+                    *v
+                } else {
+                    StraightU8([v.0[0], v.0[1], v.0[2], 0])
+                }
+            })
+            .collect();
+        let bvol = Volume::new(&ball, [256; 3])
+            .unwrap()
+            .with_reference_distance(D)
+            .unwrap();
+        let plain = RayMarcher::new(
+            bvol,
+            OpacityWeighted,
+            Trilinear::new(),
+            FrontToBack::new(),
+            step,
+        )
+        .unwrap();
+        let mut grid = vec![0u8; Occupancy::buffer_len([256; 3], 3)];
+        let skip = plain.with_skipping(&mut grid, 3).unwrap();
+        g.throughput(Throughput::Elements(n256));
+        g.bench_function("ow_f32_u8_256_ball_no_skipping", |b| {
+            b.iter(|| {
+                let mut s = 0.0f32;
+                for r in &rays256 {
+                    let p = plain.cast(r);
+                    s += p.a + p.c[0];
+                }
+                black_box(s)
+            })
+        });
+        g.bench_function("ow_f32_u8_256_ball_skipping_8", |b| {
+            b.iter(|| {
+                let mut s = 0.0f32;
+                for r in &rays256 {
+                    let p = skip.cast(r);
+                    s += p.a + p.c[0];
+                }
+                black_box(s)
+            })
+        });
+        // The grid's cost on the full volume (nothing to skip): the lookup per sample.
+        let mut full_grid = vec![0u8; Occupancy::buffer_len([256; 3], 3)];
+        let ow_skip = ow.with_skipping(&mut full_grid, 3).unwrap();
+        g.bench_function("ow_f32_u8_256_skipping_8_nothing_empty", |b| {
+            b.iter(|| {
+                let mut s = 0.0f32;
+                for r in &rays256 {
+                    let p = ow_skip.cast(r);
                     s += p.a + p.c[0];
                 }
                 black_box(s)
