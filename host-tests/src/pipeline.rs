@@ -5,7 +5,7 @@
 //! termination exactly when `A_stop < 1`, and the background is composited once per ray; the
 //! core picks the first two by type ([`volsample::RayMarcher`]), so an absent stage has no
 //! code in the inner loop (the integer pipeline is the core's
-//! [`IntRayMarcher`](volsample::fixed_point::IntRayMarcher)).
+//! [`IntRayMarcher`]).
 //!
 //! [`with_pipeline`] builds a pipeline once (storage conversion and validation, `O(voxels)`)
 //! and renders any number of frames with it (`O(samples)`); [`render`] times one frame.
