@@ -142,12 +142,17 @@ impl<'a, V: Voxel> Volume<'a, V> {
             return None;
         }
         let plane = nx * ny;
-        let here = self.data.get(x + nx * (y + ny * z)..)?;
-        let pair = |offset: usize| here.get(offset..).and_then(|s| s.first_chunk::<2>());
-        let [v0, v1] = *pair(0)?;
-        let [v2, v3] = *pair(nx)?;
-        let [v4, v5] = *pair(plane)?;
-        let [v6, v7] = *pair(plane + nx)?;
+        // One slice check for the whole cell: the rows start at 0, nx, plane and plane + nx
+        // of it. Splitting at those offsets (each row at least 2 long, since nx ≥ 2 here)
+        // lets the optimiser drop the per-row checks.
+        let cell = self.data.get(x + nx * (y + ny * z)..)?;
+        let (row0, rest) = cell.split_at_checked(nx)?;
+        let (row1, rest) = rest.split_at_checked(plane - nx)?;
+        let (row2, row3) = rest.split_at_checked(nx)?;
+        let [v0, v1] = *row0.first_chunk::<2>()?;
+        let [v2, v3] = *row1.first_chunk::<2>()?;
+        let [v4, v5] = *row2.first_chunk::<2>()?;
+        let [v6, v7] = *row3.first_chunk::<2>()?;
         Some([v0, v1, v2, v3, v4, v5, v6, v7])
     }
 
