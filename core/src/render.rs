@@ -264,7 +264,7 @@ where
     /// [`cast`](Self::cast), also returning the number of samples taken (fewer than the
     /// ray's sample count when early termination stops it). The count costs nothing when it
     /// is not used.
-    #[inline]
+    #[inline(always)]
     pub fn cast_counted(&self, ray: &Ray) -> (Sample, u32) {
         let (acc, n) = match (&self.correction, &self.skip) {
             (Some(c), None) => self.march(ray, c, &NoSkip),

@@ -81,6 +81,94 @@ fn random_positions(count: usize) -> Vec<[f32; 3]> {
         .collect()
 }
 
+/// The same-load ratios the targets name: each round renders every ray once with each
+/// marcher, in turn, and the per-round time ratios against `OpacityWeighted` f32 are reduced
+/// to their medians (criterion's medians come from different minutes, and the load on a
+/// shared machine drifts between them).
+fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
+    let step = Step::new(D).unwrap();
+    let vol = Volume::new(v256, [256; 3])
+        .unwrap()
+        .with_reference_distance(D)
+        .unwrap();
+    let ow = RayMarcher::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap();
+    let sep = RayMarcher::new(vol, Separate, Trilinear::new(), FrontToBack::new(), step).unwrap();
+    let int_ow = IntRayMarcher::<_, _, _, 8>::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        IntStop::NEVER,
+        step,
+    )
+    .unwrap();
+    let ext: Vec<ExtinctionF32> = v256
+        .iter()
+        .map(|v| {
+            let [r, g, b, a] = v.0.map(|n| f32::from(n) / 255.0);
+            ExtinctionF32::from_straight(StraightF32 { c: [r, g, b], a }, D)
+        })
+        .collect();
+    let evol = Volume::new(&ext, [256; 3]).unwrap();
+    let em = RayMarcher::new(
+        evol,
+        ExtinctionWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap();
+    let mut grid = vec![0u8; Occupancy::buffer_len([256; 3], 3)];
+    let skip = ow.with_skipping(&mut grid, 3).unwrap();
+    let n: u64 = rays.iter().map(|r| u64::from(ow.sample_range(r).1)).sum();
+    let time = |f: &dyn Fn() -> f32| {
+        let t = std::time::Instant::now();
+        black_box(f());
+        t.elapsed().as_secs_f64()
+    };
+    let rounds = if quick() { 3 } else { 11 };
+    let names = [
+        "OpacityWeighted f32",
+        "Separate f32",
+        "OpacityWeighted int F=8",
+        "ExtinctionWeighted f32 (exact exp)",
+        "OpacityWeighted f32 + skipping grid (nothing empty)",
+    ];
+    let mut per = vec![Vec::new(); names.len()];
+    for _ in 0..rounds {
+        let t = [
+            time(&|| rays.iter().map(|r| ow.cast(r).a).sum()),
+            time(&|| rays.iter().map(|r| sep.cast(r).a).sum()),
+            time(&|| rays.iter().map(|r| f32::from(int_ow.cast(r).a())).sum()),
+            time(&|| rays.iter().map(|r| em.cast(r).a).sum()),
+            time(&|| rays.iter().map(|r| skip.cast(r).a).sum()),
+        ];
+        for (p, x) in per.iter_mut().zip(t) {
+            p.push(x);
+        }
+    }
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let base = per[0].clone();
+    println!("ray_march/interleaved: {rounds} rounds, 256³, {n} samples per pass");
+    for (name, p) in names.iter().zip(&per) {
+        let ratios: Vec<f64> = p.iter().zip(&base).map(|(a, b)| a / b).collect();
+        println!(
+            "  {name:52} {:7.2} ns/sample (median)   / OW f32: {:.3}",
+            median(p.clone()) * 1e9 / n as f64,
+            median(ratios)
+        );
+    }
+}
+
 fn quick() -> bool {
     std::env::var_os("VOLSAMPLE_BENCH_QUICK").is_some()
 }
@@ -299,6 +387,7 @@ fn bench(c: &mut Criterion) {
         })
     });
     g.finish();
+    interleaved_ratios(&v256, &rays256);
 }
 
 criterion_group! {
