@@ -36,42 +36,83 @@ impl Isosurface {
     /// `α_v·(1 − |f_v − f|/(r·g))` when `g > 0` and `|f_v − f| ≤ r·g`; `α_v` when `f = f_v`;
     /// otherwise 0.
     ///
+    /// The ratio `|f_v − f|/(r·g)` is formed from the mantissas of its three terms, so no
+    /// step overflows or underflows: every finite `f`, `f_v`, `r` and `g` (subnormal to
+    /// `f32::MAX`) gives the ratio to a few roundings. (Formed directly, `r·g` overflowed to
+    /// `∞` — opacity `α_v` where it should fall off — and `|f_v − f|` overflowed for `f`, `f_v`
+    /// of opposite signs near `±f32::MAX`.)
+    ///
     /// Error bound: within `4ε` (`ε = 2⁻²³`) of the exact value for the given `f32` input
     /// (`ISOSURFACE_ABS` in the tests).
     #[inline]
     pub fn opacity(&self, f: f32, g: f32) -> f32 {
-        let diff = (self.f_v - f).abs();
+        // g = m·2^k with m ∈ [½, 1) (∞ and NaN pass through as m).
+        let (m, k) = libm::frexpf(g);
+        self.opacity_scaled(f, m, k)
+    }
+
+    /// [`opacity`](Self::opacity) for the gradient magnitude `g = m·2^k`, `m ≥ 0`.
+    #[inline]
+    fn opacity_scaled(&self, f: f32, m: f32, k: i32) -> f32 {
+        let (d, e) = difference(self.f_v, f);
+        let diff = d.abs();
         if diff == 0.0 {
-            self.alpha_v
-        } else if g > 0.0 && diff <= self.r * g {
-            (self.alpha_v * (1.0 - diff / (self.r * g))).clamp(0.0, 1.0)
+            return self.alpha_v;
+        }
+        // A zero, negative or NaN gradient, or a NaN `f`: no opacity off the isovalue.
+        if m.is_nan() || m <= 0.0 || diff.is_nan() {
+            return 0.0;
+        }
+        // q = |f_v − f|/(r·g) = (m_d/(m_r·m))·2^(e_d + e − e_r − k): the quotient of the
+        // mantissas lies in [¼, 4], and one scaling rounds it only if `q` is subnormal.
+        let (m_d, e_d) = libm::frexpf(diff);
+        let (m_r, e_r) = libm::frexpf(self.r);
+        let q = libm::scalbnf(m_d / (m_r * m), e_d + e - e_r - k);
+        if q <= 1.0 {
+            (self.alpha_v * (1.0 - q)).clamp(0.0, 1.0)
         } else {
             0.0
         }
     }
 }
 
-/// The gradient of a scalar volume at voxel `(x, y, z)`, per voxel: central differences
-/// `(f[i+1] − f[i−1])/2` inside, one-sided differences at the faces, 0 along an axis of
-/// length 1. Coordinates outside the grid are clamped.
-///
-/// Error bound: each component within `ε·m` of the exact difference of the `f32` values,
-/// `ε = 2⁻²³`, `m` the largest magnitude of the differenced values (`GRADIENT_REL` in the tests).
-pub fn gradient<V: ScalarVoxel>(vol: &Volume<'_, V>, x: usize, y: usize, z: usize) -> [f32; 3] {
+/// `a − b` as `(d, e)` with `a − b = d·2^e` and `d` finite for finite `a`, `b`: `(a − b, 0)`,
+/// or, when that overflows, `(a/2 − b/2, 1)` (the halves are exact unless one is subnormal,
+/// and then it is negligible against the other, which exceeds `f32::MAX/4`).
+#[inline(always)]
+fn difference(a: f32, b: f32) -> (f32, i32) {
+    let d = a - b;
+    if d.is_infinite() && a.is_finite() && b.is_finite() {
+        (a * 0.5 - b * 0.5, 1)
+    } else {
+        (d, 0)
+    }
+}
+
+/// The per-axis difference quotients of [`gradient`] as `(d, e)` pairs, component
+/// `d·2^e`, never overflowing (see [`difference`]).
+fn gradient_parts<V: ScalarVoxel>(
+    vol: &Volume<'_, V>,
+    x: usize,
+    y: usize,
+    z: usize,
+) -> [(f32, i32); 3] {
     let [nx, ny, nz] = vol.dims();
     let at = |p: [usize; 3]| -> f32 {
         let [cx, cy, cz] = p;
         vol.get(cx, cy, cz).map_or(0.0, |v| v.scalar::<f32>())
     };
-    let axis = |n: usize, c: usize, f: &dyn Fn(usize) -> f32| -> f32 {
+    let axis = |n: usize, c: usize, f: &dyn Fn(usize) -> f32| -> (f32, i32) {
         if n < 2 {
-            0.0
+            (0.0, 0)
         } else if c == 0 {
-            f(1) - f(0)
+            difference(f(1), f(0))
         } else if c >= n - 1 {
-            f(n - 1) - f(n - 2)
+            difference(f(n - 1), f(n - 2))
         } else {
-            (f(c + 1) - f(c - 1)) * 0.5
+            // The halving goes into the exponent: no rounding, even for subnormals.
+            let (d, e) = difference(f(c + 1), f(c - 1));
+            (d, e - 1)
         }
     };
     let (x, y, z) = (x.min(nx - 1), y.min(ny - 1), z.min(nz - 1));
@@ -80,6 +121,44 @@ pub fn gradient<V: ScalarVoxel>(vol: &Volume<'_, V>, x: usize, y: usize, z: usiz
         axis(ny, y, &|k| at([x, k, z])),
         axis(nz, z, &|k| at([x, y, k])),
     ]
+}
+
+/// The gradient of a scalar volume at voxel `(x, y, z)` as `(v, k)`, `∇f = v·2^k`, scaled so
+/// that the largest `|v_i|` lies in `[½, 1)` (`v = 0`, `k = 0` for a zero gradient): its
+/// length and direction can be formed without overflow or underflow for every finite
+/// scalar field. Components more than `2^125` times smaller than the largest may be
+/// flushed, a relative change of the length below `2^−250`.
+pub(crate) fn scaled_gradient<V: ScalarVoxel>(
+    vol: &Volume<'_, V>,
+    x: usize,
+    y: usize,
+    z: usize,
+) -> ([f32; 3], i32) {
+    let parts = gradient_parts(vol, x, y, z);
+    let k = parts
+        .iter()
+        .filter(|(d, _)| *d != 0.0)
+        .map(|&(d, e)| libm::frexpf(d).1 + e)
+        .max();
+    match k {
+        Some(k) => (parts.map(|(d, e)| libm::scalbnf(d, e - k)), k),
+        None => ([0.0; 3], 0),
+    }
+}
+
+/// The gradient of a scalar volume at voxel `(x, y, z)`, per voxel: central differences
+/// `(f[i+1] − f[i−1])/2` inside, one-sided differences at the faces, 0 along an axis of
+/// length 1. Coordinates outside the grid are clamped.
+///
+/// A central difference of values near `±f32::MAX` is formed from their halves, so it does
+/// not overflow; a one-sided difference beyond `f32::MAX` is `±∞` (it has no `f32` value).
+///
+/// Error bound: each component within `ε·m` of the exact difference of the `f32` values,
+/// `ε = 2⁻²³`, `m` the largest magnitude of the differenced values (`GRADIENT_REL` in the
+/// tests); relative to the component, one rounding (`ε/2`), plus `2⁻¹⁵⁰` where the result is
+/// subnormal (`GRADIENT_EDGE_REL`).
+pub fn gradient<V: ScalarVoxel>(vol: &Volume<'_, V>, x: usize, y: usize, z: usize) -> [f32; 3] {
+    gradient_parts(vol, x, y, z).map(|(d, e)| libm::scalbnf(d, e))
 }
 
 fn check_out_len(expected: usize, out: usize) -> Result<(), Error> {
@@ -95,6 +174,13 @@ fn check_out_len(expected: usize, out: usize) -> Result<(), Error> {
 
 /// Classifies every voxel with Levoy's isosurface opacity and one straight `color`, writing
 /// straight voxels into `out` (same layout).
+///
+/// The gradient magnitude and the ratio `|f_v − f|/(r·|∇f|)` are formed on scaled
+/// mantissas, so every finite scalar field — values near `±f32::MAX`, subnormal differences —
+/// is classified as its exact gradient says (Levoy's opacity depends only on that ratio).
+///
+/// Error bound: each `α` within `4ε` (`ε = 2⁻²³`) of the exact classification of the same
+/// `f32` scalars, gradient included (`CLASSIFY_ISOSURFACE_ABS` in the tests).
 ///
 /// # Errors
 /// [`Error::LengthMismatch`] if `out` does not hold one voxel per input voxel,
@@ -112,11 +198,12 @@ pub fn classify_isosurface<V: ScalarVoxel>(
     let [nx, ny, _] = vol.dims();
     for (i, (o, v)) in out.iter_mut().zip(vol.data()).enumerate() {
         let (x, y, z) = (i % nx, (i / nx) % ny, i / (nx * ny));
-        let [gx, gy, gz] = gradient(vol, x, y, z);
-        let g = libm::sqrtf(gx * gx + gy * gy + gz * gz);
+        // |∇f| = |v|·2^k with |v| ∈ [½, √3]: no overflow or underflow on the way.
+        let ([gx, gy, gz], k) = scaled_gradient(vol, x, y, z);
+        let m = libm::sqrtf(gx * gx + gy * gy + gz * gz);
         *o = StraightF32 {
             c: color,
-            a: iso.opacity(v.scalar::<f32>(), g),
+            a: iso.opacity_scaled(v.scalar::<f32>(), m, k),
         };
     }
     Ok(())

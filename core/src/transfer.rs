@@ -77,7 +77,8 @@ impl<const N: usize> TransferFunction<N> {
     /// Error bound: each output within `3ε + 2ε·L·m` of the exact piecewise-linear value,
     /// `ε = 2⁻²³`, `L` the segment's slope and `m` the largest magnitude among `s` and the
     /// segment's end points (the rounding of `s − s_lo`; `TF_EVAL_BASE`, `TF_EVAL_PER_SLOPE` in
-    /// the tests). NaN `s` gives the first point's values.
+    /// the tests), for every finite `s` and control points anywhere in `f32` (segments wider
+    /// than `f32::MAX` included). NaN `s` gives the first point's values.
     #[inline]
     pub fn eval(&self, s: f32) -> ([f32; 3], f32) {
         let i = self.points.partition_point(|p| p.s <= s);
@@ -90,7 +91,14 @@ impl<const N: usize> TransferFunction<N> {
             (Some(lo), None) => return (lo.c, lo.a),
             _ => return (first.c, first.a),
         };
-        let t = (s - lo.s) / (hi.s - lo.s);
+        // A segment wider than f32::MAX (ends near ±f32::MAX) is measured in halves, exact
+        // at that scale; unhalved, `∞/∞` gave a NaN color and `x/∞` a 0 where `t` was ½.
+        let width = hi.s - lo.s;
+        let t = if width.is_finite() {
+            (s - lo.s) / width
+        } else {
+            (s * 0.5 - lo.s * 0.5) / (hi.s * 0.5 - lo.s * 0.5)
+        };
         let lerp = |a: f32, b: f32| (a + t * (b - a)).clamp(0.0, 1.0);
         (
             [

@@ -52,9 +52,14 @@ fn step_case(wa: &mut Worst, wr: &mut Worst, tau: f32, d: f32, straight: f32) {
 fn integrate_step_at_the_edges() {
     let mut wa = Worst::new(
         "2 integrate_step τ∈{0,−0,subnormal…MAX_TAU}×d∈{1e-30…1e30}",
+        "mode::integrate_step",
         "abs",
     );
-    let mut wr = Worst::new("2 integrate_step same, relative (faint steps)", "×budget");
+    let mut wr = Worst::new(
+        "2 integrate_step same, relative (faint steps)",
+        "mode::integrate_step",
+        "×budget",
+    );
     let taus = [
         0.0,
         -0.0,
@@ -136,7 +141,11 @@ fn one<V: volsample::voxel::Voxel, M: volsample::Mode<V>>(
 /// every step down to `10⁻³` (1 700 samples), never NaN, in every filter.
 #[test]
 fn huge_tau_renders_opaque() {
-    let mut w = Worst::new("2 τ=MAX_TAU ray, every filter, d 1e-3…10", "abs");
+    let mut w = Worst::new(
+        "2 τ=MAX_TAU ray, every filter, d 1e-3…10",
+        "RayMarcher::cast ExtinctionWeighted",
+        "abs",
+    );
     let e = ExtinctionF32 {
         c_tau: [MAX_TAU, MAX_TAU * 0.5, 0.0],
         tau: MAX_TAU,
@@ -214,6 +223,7 @@ fn correction_slope(a: f64, r: f64) -> f64 {
 fn extreme_ratios_every_mode_uniform_volumes() {
     let mut w = Worst::new(
         "2 d/d′=1e±6,1e±3, uniform α edges, every mode×filter",
+        "sample, 5 modes × 4 filters + correct",
         "abs",
     );
     for a in alpha_edges() {
@@ -264,7 +274,11 @@ fn extreme_ratios_every_mode_uniform_volumes() {
 /// opaque *black*: `r·(−ln(1 − α))` overflowed to `∞` and the gain `r·φ(∞)·ψ` was 0.
 #[test]
 fn reference_distance_to_zero() {
-    let mut w = Worst::new("2 d′→0 (1e-6…MIN_POSITIVE), every mode, α edges", "abs");
+    let mut w = Worst::new(
+        "2 d′→0 (1e-6…MIN_POSITIVE), every mode, α edges",
+        "RayMarcher::sample, 5 modes + correct",
+        "abs",
+    );
     let d_refs = [
         1e-6f32,
         1e-20,

@@ -196,6 +196,7 @@ fn ray_bound(case: &FloatCase, mode: ModeKind, filter: FilterKind, n: usize, d: 
 fn exact_rays_through_small_volumes() {
     let mut w = Worst::new(
         "4 exact rays: centres/faces/edges/last plane, 1×1×1…3×2×4",
+        "RayMarcher::cast, 5 modes × 4 filters, both orders",
         "abs",
     );
     let mut rays_checked = 0usize;
@@ -272,6 +273,16 @@ fn exact_rays_through_small_volumes() {
 /// sample and return the background exactly; the reference agrees.
 #[test]
 fn rays_touching_the_box_in_one_point() {
+    let mut w = Worst::new(
+        "4 rays touching the box in one point / along an edge",
+        "RayMarcher::{sample_range, cast}",
+        "mismatches",
+    );
+    w.exact(|| "touching rays".to_string(), rays_touching_body);
+    w.report();
+}
+
+fn rays_touching_body() {
     let data = [StraightF32 {
         c: [1.0; 3],
         a: 1.0,
@@ -314,7 +325,11 @@ fn rays_touching_the_box_in_one_point() {
 /// sample bound.
 #[test]
 fn samples_on_centres_faces_and_the_last_plane() {
-    let mut w = Worst::new("4 point samples on centres/faces/last plane ±1 ulp", "abs");
+    let mut w = Worst::new(
+        "4 point samples on centres/faces/last plane ±1 ulp",
+        "sample, 5 modes × 4 filters",
+        "abs",
+    );
     for dims in DIMS {
         for (name, case) in contents(dims) {
             let per_axis = |k: usize| {

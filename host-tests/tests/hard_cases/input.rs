@@ -21,6 +21,8 @@ use volsample::{
 };
 use volsample_host::edge_cases::{any_edge, specials};
 
+use crate::common::Worst;
+
 fn unit_ok(x: f32) -> bool {
     x.is_finite() && (0.0..=1.0).contains(&x)
 }
@@ -216,24 +218,49 @@ fn check_value(x: f32) {
 /// Every special value of the generator in every constructor.
 #[test]
 fn every_special_value_in_every_constructor() {
+    let mut w = Worst::new(
+        "5 input: 29 special values × every constructor",
+        "every float constructor",
+        "mismatches",
+    );
     let all = specials();
+    assert_eq!(all.len(), 29);
     for &x in &all {
-        check_value(x);
+        w.exact(|| format!("x={x:e}"), || check_value(x));
     }
-    println!("HARD-CASE | 5 input: {} special values × every constructor | exact errors | — | — | all matched", all.len());
+    w.report();
 }
 
 proptest! {
     /// The same around the edges and on arbitrary bit patterns.
     #[test]
     fn edge_values_in_every_constructor(x in any_edge()) {
-        check_value(x);
+        let mut w = Worst::new(
+            "5 input: edge and arbitrary f32 × every constructor (fuzzed)",
+            "every float constructor",
+            "mismatches",
+        );
+        w.exact(|| format!("x={x:e}"), || check_value(x));
+        w.report();
     }
 }
 
 /// Zero-sized images and bad steps in both marchers.
 #[test]
 fn zero_sized_images_and_bad_steps() {
+    let mut w = Worst::new(
+        "5 zero-sized images, d/d′ ≥ 2³² or overflowing",
+        "RayMarcher/IntRayMarcher::{new, render_into}",
+        "mismatches",
+    );
+    w.exact(
+        || "images and steps".to_string(),
+        zero_sized_images_and_bad_steps_body,
+    );
+    w.report();
+}
+
+fn zero_sized_images_and_bad_steps_body() {
     let v = [StraightU8([255; 4]); 8];
     let vol = Volume::new(&v, [2, 2, 2]).unwrap();
     let cam = Orthographic::looking_down_z([2, 2, 2]).unwrap();

@@ -118,10 +118,12 @@ fn all_255<const F: u32>(w: &mut Worst, wx: &mut Worst) {
 fn all_255_at_every_frac_bits() {
     let mut w = Worst::new(
         "6 all-255, F=4..12, OW/Sep/Prew × Nearest/Trilinear, marcher",
+        "IntSampler OW/Sep/Prew, IntRayMarcher",
         "LSB",
     );
     let mut wx = Worst::new(
         "6 all-255 extinction at the depth cap, F=4..12, r 1e-11…4.29e9",
+        "IntSampler IntExtinction",
         "LSB",
     );
     all_255::<4>(&mut w, &mut wx);
@@ -202,7 +204,11 @@ fn one_lsb<const F: u32>(w: &mut Worst) {
 /// every `F`: bit-exact against the models and within each mode's bound.
 #[test]
 fn one_lsb_from_zero_and_one_every_frac_bits() {
-    let mut w = Worst::new("6 α byte 1 and 254, F=4..12, OW/Sep/Prew vs exact", "LSB");
+    let mut w = Worst::new(
+        "6 α byte 1 and 254, F=4..12, OW/Sep/Prew vs exact",
+        "IntSampler OW/Sep/Prew",
+        "LSB",
+    );
     one_lsb::<4>(&mut w);
     one_lsb::<6>(&mut w);
     one_lsb::<8>(&mut w);
@@ -218,6 +224,7 @@ fn one_lsb_from_zero_and_one_every_frac_bits() {
 fn integer_correction_at_the_ends() {
     let mut w = Worst::new(
         "6 IntCorrection α=1, 256, ONE−256, ONE−1 LSB × r 1e-11…4.29e9",
+        "IntCorrection::apply",
         "LSB",
     );
     for r in RATIOS {
@@ -252,6 +259,7 @@ fn integer_correction_at_the_ends() {
 fn premultiplied_storage_at_alpha_one() {
     let mut w = Worst::new(
         "6 premultiplied u8 at α_F=1 vs OpacityWeighted, every C",
+        "IntSampler Preweighted",
         "LSB",
     );
     let mut reached = 0.0f64;

@@ -60,6 +60,7 @@ fn correction_case(w: &mut Worst, a: f32, straight: f32, r: f32) {
 fn correction_keeps_relative_accuracy_at_the_ends() {
     let mut w = Worst::new(
         "1 correction α→0, α→1, d/d′ 1e-6…1e38 (budget ratio)",
+        "opacity::correct",
         "×budget",
     );
     for a in alpha_edges() {
@@ -76,8 +77,9 @@ proptest! {
     /// The same around the edges, fuzzed.
     #[test]
     fn correction_relative_accuracy_fuzzed(a in prop_oneof![tiny(), unit_edge()], r in ratio_edge(), c in 0.0f32..=1.0) {
-        let mut w = Worst::new("1 correction fuzzed", "×budget");
+        let mut w = Worst::new("1 correction fuzzed", "opacity::correct", "×budget");
         correction_case(&mut w, a, c, r);
+        w.report();
     }
 }
 
@@ -85,7 +87,7 @@ proptest! {
 /// of the exact quotient of the stored values, for every edge opacity.
 #[test]
 fn unpremultiplying_faint_samples() {
-    let mut w = Worst::new("1 straight_color C̃/α, α→0", "rel");
+    let mut w = Worst::new("1 straight_color C̃/α, α→0", "Sample::straight_color", "rel");
     for a in alpha_edges().into_iter().filter(|&a| a > 0.0) {
         for c in [1.0f32, 0.75, 1.0 / 3.0, 1e-3] {
             let s = Sample::clamped([c * a, 0.0, a], a);
@@ -129,6 +131,11 @@ proptest! {
         for p in &mut case.tf { p.a *= s; }
         // Extinction: τ = −ln(1 − α)/d′ ≈ α/d′; its sample scales with s·d/d′.
         let d = case.d_ref * r;
+        let mut w = Worst::new(
+            "1 faint volumes α·s, s ≤ 1e-5 (fuzzed), d/d′=1,1e±3",
+            "sample, 5 modes × 4 filters + correct",
+            "abs",
+        );
         for mode in ModeKind::ALL {
             for filter in FilterKind::ALL {
                 let got = case.core_sample(mode, filter, pos, d);
@@ -144,9 +151,10 @@ proptest! {
                 };
                 let bound = faint_bound(mode, filter, &unit, f64::from(s), f64::from(r));
                 let err = abs_err(got, want);
-                prop_assert!(err <= bound, "{mode:?} {filter:?} s={s:e} r={r}: {err:e} > {bound:e}\n{got:?}\n{want:?}");
+                w.check(err, bound, || format!("{mode:?} {filter:?} s={s:e} r={r}: {got:?} vs {want:?}"));
             }
         }
+        w.report();
     }
 }
 
@@ -156,7 +164,11 @@ proptest! {
 #[test]
 fn opaque_voxels_to_extinction() {
     use volsample::voxel::{MAX_OPTICAL_DEPTH, MAX_TAU};
-    let mut w = Worst::new("1 ExtinctionF32::from_straight α→1, d′ edges", "rel");
+    let mut w = Worst::new(
+        "1 ExtinctionF32::from_straight α→1, d′ edges",
+        "ExtinctionF32::from_straight",
+        "rel",
+    );
     let d_refs = [
         edge::MIN_SUBNORMAL,
         f32::MIN_POSITIVE,
@@ -199,7 +211,11 @@ fn opaque_voxels_to_extinction() {
 /// capped extinction gives `α = 1 − e^(−64·d/d′)` as documented.
 #[test]
 fn opaque_volumes_at_extreme_ratios() {
-    let mut w = Worst::new("1 all-opaque, d/d′=1e±6, every mode×filter", "abs");
+    let mut w = Worst::new(
+        "1 all-opaque, d/d′=1e±6, every mode×filter",
+        "RayMarcher::sample, 5 modes × 4 filters + correct",
+        "abs",
+    );
     for r in [1e-6f32, 1e-3, 1.0, 1e3, 1e6] {
         let case = FloatCase {
             dims: [3, 2, 2],
@@ -257,7 +273,11 @@ fn opaque_volumes_at_extreme_ratios() {
 /// conditioned, so the bound does not grow with the ratio.
 #[test]
 fn one_lsb_from_zero_and_one_float() {
-    let mut w = Worst::new("1 u8 α=1/255, 254/255, d/d′ 1e-6…1e6 (OW, Sep)", "abs");
+    let mut w = Worst::new(
+        "1 u8 α=1/255, 254/255, d/d′ 1e-6…1e6 (OW, Sep)",
+        "RayMarcher::sample OW/Sep on StraightU8",
+        "abs",
+    );
     for a in [1u8, 2, 254, 253] {
         let v = [StraightU8([255, 128, 1, a]); 8];
         let vol = Volume::new(&v, [2, 2, 2]).unwrap();
