@@ -46,7 +46,7 @@ enum Command {
     },
     /// Render one scene (or your own volume) with chosen modes side by side into a PNG.
     Render {
-        /// A scene name from `volsample scenes` (ignored with --raw/--nrrd).
+        /// A scene name from `volsample scenes` (ignored with --raw/--nrrd/--nifti).
         #[arg(long, default_value = "red-32")]
         scene: String,
         /// A raw volume file (needs --dims and --type).
@@ -55,6 +55,9 @@ enum Command {
         /// A NRRD volume file.
         #[arg(long)]
         nrrd: Option<PathBuf>,
+        /// A NIfTI-1 volume file (.nii or .nii.gz).
+        #[arg(long)]
+        nifti: Option<PathBuf>,
         /// Dimensions of a raw file, e.g. 64,64,32.
         #[arg(long, value_delimiter = ',', num_args = 3)]
         dims: Option<Vec<usize>>,
@@ -102,7 +105,9 @@ enum Command {
     /// inputs.hex and expected.hex plus manifest.json (see `volsample_host::vectors`).
     Vectors {
         /// opacity-weighted-{nearest,trilinear}, separate-{nearest,trilinear},
-        /// preweighted-{nearest,trilinear}, composite-front-to-back, opacity-correction.
+        /// preweighted-{nearest,trilinear}, composite-front-to-back, opacity-correction,
+        /// downsample-opacity-based, extinction-weighted-{nearest,trilinear},
+        /// ray-march-opacity-weighted-{nearest,trilinear}.
         #[arg(long)]
         kernel: String,
         /// Number of vectors (corner cases first, then random).
@@ -114,6 +119,10 @@ enum Command {
         /// Fractional position bits F of the sampling kernels (4..=12).
         #[arg(long, default_value_t = 8)]
         frac_bits: u32,
+        /// Entries of the phi/exp tables of the extinction-weighted-* kernels: 5, 17, 65,
+        /// 257 (the default), 1025 or 4097.
+        #[arg(long)]
+        table_size: Option<usize>,
         /// Output directory (created if missing).
         #[arg(long)]
         out: PathBuf,
@@ -131,14 +140,14 @@ fn find_scene(name: &str) -> Result<Scene, String> {
 fn user_scene(
     raw: Option<PathBuf>,
     nrrd: Option<PathBuf>,
+    nifti: Option<PathBuf>,
     dims: Option<Vec<usize>>,
     ty: &str,
     tf: Option<PathBuf>,
 ) -> Result<Option<Scene>, String> {
-    let (dims, data) = match (raw, nrrd) {
-        (None, None) => return Ok(None),
-        (Some(_), Some(_)) => return Err("give --raw or --nrrd, not both".into()),
-        (Some(path), None) => {
+    let (dims, data) = match (raw, nrrd, nifti) {
+        (None, None, None) => return Ok(None),
+        (Some(path), None, None) => {
             let dims: [usize; 3] = dims
                 .ok_or("--raw needs --dims X,Y,Z")?
                 .try_into()
@@ -150,7 +159,9 @@ fn user_scene(
                 load::load_raw(&path, dims, ty).map_err(|e| e.to_string())?,
             )
         }
-        (None, Some(path)) => load::load_nrrd(&path).map_err(|e| e.to_string())?,
+        (None, Some(path), None) => load::load_nrrd(&path).map_err(|e| e.to_string())?,
+        (None, None, Some(path)) => load::load_nifti(&path).map_err(|e| e.to_string())?,
+        _ => return Err("give one volume file: --raw, --nrrd or --nifti, not several".into()),
     };
     let points = match tf {
         Some(p) => load::load_transfer_function(&p).map_err(|e| e.to_string())?,
@@ -248,6 +259,7 @@ fn run() -> Result<(), String> {
             scene,
             raw,
             nrrd,
+            nifti,
             dims,
             ty,
             tf,
@@ -256,7 +268,7 @@ fn run() -> Result<(), String> {
             size,
             out,
         } => {
-            let mut s = match user_scene(raw, nrrd, dims, &ty, tf)? {
+            let mut s = match user_scene(raw, nrrd, nifti, dims, &ty, tf)? {
                 Some(s) => s,
                 None => find_scene(&scene)?,
             };
@@ -323,10 +335,19 @@ fn run() -> Result<(), String> {
             count,
             seed,
             frac_bits,
+            table_size,
             out,
-        } => volsample_host::vectors::run(&kernel, count, seed, frac_bits, &out)
-            .map(|s| println!("{s}"))
-            .map_err(|e| e.to_string()),
+        } => {
+            use volsample_host::vectors::{run_spec, Spec};
+            Spec::new(&kernel, count, seed, frac_bits)
+                .and_then(|s| match table_size {
+                    Some(n) => s.with_table_size(n),
+                    None => Ok(s),
+                })
+                .and_then(|s| run_spec(&s, &out))
+                .map(|s| println!("{s}"))
+                .map_err(|e| e.to_string())
+        }
     }
 }
 

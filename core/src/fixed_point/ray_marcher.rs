@@ -11,6 +11,10 @@
 //! opacity-based modes and only when `d ≠ d′`), and [`front_to_back`] compositing, which
 //! stops before a sample once `A ≥ A_stop` ([`IntStop`]).
 //!
+//! [`IntRayMarcher::march_positions`] runs the same integer steps on sample positions given
+//! directly as [`IntPos`] (a datapath that steps in fixed point; the hardware reference
+//! vectors), with no float arithmetic per sample.
+//!
 //! Stages a scene does not use are not in the inner loop: the correction is chosen once per
 //! ray by type, not per sample.
 
@@ -220,6 +224,69 @@ where
             }
             let s = self.sample_with(ray.at(t_first + j as f32 * d), corr);
             acc = front_to_back(acc, s);
+        }
+        (acc, n)
+    }
+
+    /// [`cast_counted`](Self::cast_counted) with the sample positions given in the integer
+    /// format instead of computed from a float ray: the samples at `positions`, in order,
+    /// each opacity-corrected for the step when the pipeline corrects
+    /// ([`correction`](Self::correction)), composited front to back ([`front_to_back`]) until
+    /// `A ≥ A_stop` before a sample ([`IntStop`]), then over the background. Returns the
+    /// composite and the number of samples composited.
+    ///
+    /// This is the entry point for a datapath that steps its positions in fixed point (the
+    /// hardware reference vectors use it); a position outside the volume reads the edge
+    /// voxels, as [`IntSampler::sample`] does. Positions after the stop are not read.
+    ///
+    /// Error bound: as [`cast_counted`](Self::cast_counted), without the position
+    /// quantization.
+    ///
+    /// ```
+    /// use volsample::fixed_point::{IntPos, IntRayMarcher, IntStop, ONE};
+    /// use volsample::{OpacityWeighted, Step, StraightU8, Trilinear, Volume};
+    /// let voxels = [StraightU8([255, 0, 0, 100]); 8];
+    /// let vol = Volume::new(&voxels, [2, 2, 2])?;
+    /// let marcher = IntRayMarcher::<_, _, _, 8>::new(
+    ///     vol, OpacityWeighted, Trilinear::new(), IntStop::new(ONE / 2)?, Step::new(1.0)?,
+    /// )?;
+    /// // Four samples along x; the stop is reached after the first two.
+    /// let ray = (0..4).map(|k| IntPos::<8>::from_raw([64 * k, 128, 128]));
+    /// let (s, taken) = marcher.march_positions(ray);
+    /// assert_eq!(taken, 2);
+    /// assert!(s.a() >= ONE / 2 && s.c()[1] == 0);
+    /// # Ok::<(), volsample::Error>(())
+    /// ```
+    #[inline]
+    pub fn march_positions<I: IntoIterator<Item = IntPos<F>>>(
+        &self,
+        positions: I,
+    ) -> (IntSample, u32) {
+        let positions = positions.into_iter();
+        let (acc, n) = match &self.correction {
+            Some(c) => self.march_int(positions, c),
+            None => self.march_int(positions, &Identity),
+        };
+        (front_to_back(acc, self.background), n)
+    }
+
+    /// The steps of `march` over integer positions: the stop is tested before each position
+    /// is read, so none is read after it; the count **saturates** at `u32::MAX`. (Its own
+    /// loop: `march` over an iterator of samples cost 1–2 % more instructions per sample.
+    /// `host-tests/tests/vectors.rs` checks that both give the same results.)
+    #[inline(always)]
+    fn march_int<C: Stage, I: Iterator<Item = IntPos<F>>>(
+        &self,
+        mut positions: I,
+        corr: &C,
+    ) -> (IntSample, u32) {
+        let a_stop = self.stop.a_stop();
+        let mut acc = IntSample::TRANSPARENT;
+        let mut n = 0u32;
+        while acc.a() < a_stop {
+            let Some(p) = positions.next() else { break };
+            acc = front_to_back(acc, corr.apply(self.sampler.sample(p)));
+            n = n.saturating_add(1);
         }
         (acc, n)
     }

@@ -1,20 +1,23 @@
-//! Loading a user's volume (raw or NRRD) and transfer function (JSON or text).
+//! Loading a user's volume (raw, NRRD or NIfTI-1) and transfer function (JSON or text).
 //!
 //! Every failure is a [`LoadError`] that names the file and the problem; nothing panics on
 //! bad input.
 
 use std::fmt;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use volsample::ControlPoint;
 
-/// Scalar sample types a raw or NRRD file may hold.
+/// Scalar sample types a raw, NRRD or NIfTI file may hold.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ScalarType {
     /// Unsigned 8-bit.
     U8,
     /// Unsigned 16-bit.
     U16,
+    /// Signed 16-bit (NIfTI `int16` only so far; [`ScalarType::parse`] does not name it).
+    I16,
     /// IEEE 32-bit float.
     F32,
 }
@@ -24,7 +27,7 @@ impl ScalarType {
     pub fn size(self) -> usize {
         match self {
             ScalarType::U8 => 1,
-            ScalarType::U16 => 2,
+            ScalarType::U16 | ScalarType::I16 => 2,
             ScalarType::F32 => 4,
         }
     }
@@ -94,6 +97,17 @@ fn decode(
                     u16::from_be_bytes(a)
                 } else {
                     u16::from_le_bytes(a)
+                })
+            })
+            .collect(),
+        ScalarType::I16 => bytes
+            .chunks_exact(2)
+            .map(|c| {
+                let a = [c[0], c[1]];
+                f32::from(if big_endian {
+                    i16::from_be_bytes(a)
+                } else {
+                    i16::from_le_bytes(a)
                 })
             })
             .collect(),
@@ -229,6 +243,212 @@ pub fn load_nrrd(path: &Path) -> Result<([usize; 3], Vec<f32>), LoadError> {
         .and_then(|p| p.checked_mul(dims[2]))
         .ok_or_else(|| bad(path, "sizes overflow"))?;
     Ok((dims, decode(path, &data, ty, count, big_endian)?))
+}
+
+/// Size of a NIfTI-1 header (`sizeof_hdr`); the data of a `.nii` file starts at 352 or later.
+const NIFTI1_HEADER: usize = 348;
+
+/// Shows header bytes such as a magic code readably (`n+1\0`, `\x89PN`).
+fn escaped(bytes: &[u8]) -> String {
+    bytes
+        .iter()
+        .flat_map(|&b| std::ascii::escape_default(b))
+        .map(char::from)
+        .collect()
+}
+
+/// Loads a single-file NIfTI-1 volume, `.nii` or gzip-compressed `.nii.gz` (recognised by its
+/// content, not its name). Returns the dimensions `[dim[1], dim[2], dim[3]]` and the values,
+/// `x` fastest as the file stores them.
+///
+/// The header is parsed by the `nifti` crate (either byte order). Supported `datatype`s:
+/// `uint8` (2), `int16` (4), `uint16` (512), `float32` (16). The volume must be 3-D: `dim[0]`
+/// of 3, or more with every `dim[4..]` equal to 1 (a single 3-D volume of a 4-D file). The data
+/// start at `vox_offset`; extensions and padding before it are skipped. When `scl_slope` is
+/// finite and non-zero each value becomes `scl_slope·v + scl_inter`; a `scl_slope` of 0 (the
+/// NIfTI-1 rule), NaN or ∞ (nibabel's rule) means no scaling. Orientation (`qform`/`sform`)
+/// and voxel spacing (`pixdim`) are ignored: the volume is sampled on its index grid.
+///
+/// # Errors
+/// Unreadable file or gzip stream; not a NIfTI-1 `.nii` (no `n+1` magic: a header-only
+/// `.hdr`, NIfTI-2 or another format); a `sizeof_hdr` other than 348; an unsupported or unknown
+/// `datatype`, or a `bitpix` that does not match it; 2-D data or more than one volume; a
+/// non-positive dimension; a bad `vox_offset`; data shorter or longer than the dimensions
+/// need; NaN/∞ values (before or after scaling); a valid `scl_slope` with a NaN/∞ `scl_inter`.
+pub fn load_nifti(path: &Path) -> Result<([usize; 3], Vec<f32>), LoadError> {
+    let file = std::fs::read(path).map_err(|e| LoadError::Io(path.to_path_buf(), e))?;
+    let bytes = if file.starts_with(&[0x1f, 0x8b]) {
+        let mut out = Vec::new();
+        flate2::read::MultiGzDecoder::new(file.as_slice())
+            .read_to_end(&mut out)
+            .map_err(|e| bad(path, format!("bad gzip stream: {e}")))?;
+        out
+    } else {
+        file
+    };
+    if bytes.get(4..8) == Some(b"n+2\0") {
+        return Err(bad(path, "a NIfTI-2 file; only NIfTI-1 is supported"));
+    }
+    if bytes.len() < NIFTI1_HEADER {
+        return Err(bad(
+            path,
+            format!(
+                "{} bytes is too short for a NIfTI-1 header ({NIFTI1_HEADER} bytes)",
+                bytes.len()
+            ),
+        ));
+    }
+    match &bytes[344..348] {
+        b"n+1\0" => {}
+        b"ni1\0" => {
+            return Err(bad(
+                path,
+                "a header-only NIfTI-1 .hdr (magic ni1); give the single-file .nii",
+            ))
+        }
+        m => {
+            return Err(bad(
+                path,
+                format!(
+                    "not a NIfTI-1 file (magic at byte 344 is '{}', need 'n+1\\0')",
+                    escaped(m)
+                ),
+            ))
+        }
+    }
+    // sizeof_hdr = 348 gives the byte order; the crate finds it from dim[0] (1 to 7).
+    let head = [bytes[0], bytes[1], bytes[2], bytes[3]];
+    let big = match (i32::from_le_bytes(head), i32::from_be_bytes(head)) {
+        (348, _) => false,
+        (_, 348) => true,
+        (le, _) => {
+            return Err(bad(
+                path,
+                format!("sizeof_hdr is {le}, need {NIFTI1_HEADER}"),
+            ))
+        }
+    };
+    let header = nifti::NiftiHeader::from_reader(bytes.as_slice())
+        .map_err(|e| bad(path, format!("bad NIfTI-1 header: {e}")))?;
+    if (header.endianness == nifti::Endianness::Big) != big {
+        let d = [bytes[40], bytes[41]];
+        let d = if big {
+            i16::from_be_bytes(d)
+        } else {
+            i16::from_le_bytes(d)
+        };
+        return Err(bad(
+            path,
+            format!("dim[0] (the number of dimensions) is {d}, must be 1 to 7"),
+        ));
+    }
+
+    let code = header.datatype;
+    let ty = match header.data_type() {
+        Ok(nifti::NiftiType::Uint8) => ScalarType::U8,
+        Ok(nifti::NiftiType::Int16) => ScalarType::I16,
+        Ok(nifti::NiftiType::Uint16) => ScalarType::U16,
+        Ok(nifti::NiftiType::Float32) => ScalarType::F32,
+        Ok(t) => {
+            return Err(bad(
+                path,
+                format!(
+                    "unsupported datatype {t:?} (code {code}); \
+                     supported: uint8 (2), int16 (4), uint16 (512), float32 (16)"
+                ),
+            ))
+        }
+        Err(_) => return Err(bad(path, format!("unknown datatype code {code}"))),
+    };
+    let bits = 8 * ty.size();
+    if usize::try_from(header.bitpix) != Ok(bits) {
+        return Err(bad(
+            path,
+            format!(
+                "bitpix is {}, but datatype {ty:?} has {bits} bits",
+                header.bitpix
+            ),
+        ));
+    }
+
+    // `dim` is `short[8]` in the specification; the crate reads it unsigned.
+    let dim = header.dim.map(|d| d as i16);
+    let rank = dim[0];
+    if !(3..=7).contains(&rank) {
+        return Err(bad(
+            path,
+            format!("need a 3D volume, but dim[0] (the number of dimensions) is {rank}"),
+        ));
+    }
+    let extra = &dim[4..=rank as usize];
+    if extra.iter().any(|&d| d != 1) {
+        return Err(bad(
+            path,
+            format!(
+                "need a single 3D volume, but the data are {rank}-D with dim[4..={rank}] = \
+                 {extra:?}"
+            ),
+        ));
+    }
+    let mut dims = [0usize; 3];
+    for (k, d) in dims.iter_mut().enumerate() {
+        let v = dim[k + 1];
+        *d = usize::try_from(v)
+            .ok()
+            .filter(|&d| d > 0)
+            .ok_or_else(|| bad(path, format!("dim[{}] is {v}, must be positive", k + 1)))?;
+    }
+
+    let off = header.vox_offset;
+    if !(off.is_finite() && off.fract() == 0.0 && off >= 352.0) {
+        return Err(bad(
+            path,
+            format!("vox_offset is {off}, need a whole number ≥ 352"),
+        ));
+    }
+    let start = off as usize; // saturates: a huge offset is past the end below
+    if start > bytes.len() {
+        return Err(bad(
+            path,
+            format!(
+                "truncated: vox_offset is {start}, but the file holds {} bytes",
+                bytes.len()
+            ),
+        ));
+    }
+    let count = dims[0]
+        .checked_mul(dims[1])
+        .and_then(|p| p.checked_mul(dims[2]))
+        .ok_or_else(|| bad(path, "dimensions overflow"))?;
+    // The data are sliced here rather than read by `nifti::ReaderOptions::read_file`: nifti
+    // 0.18 starts them right after the extensions, not at `vox_offset`, so it misreads a file
+    // with padding before the data (tested in tests/load.rs, `nifti_dims_and_order`).
+    let mut values = decode(path, &bytes[start..], ty, count, big)?;
+
+    let (slope, inter) = (header.scl_slope, header.scl_inter);
+    if slope.is_finite() && slope != 0.0 {
+        if !inter.is_finite() {
+            return Err(bad(
+                path,
+                format!("scl_slope is {slope} but scl_inter is {inter}"),
+            ));
+        }
+        if (slope, inter) != (1.0, 0.0) {
+            for v in &mut values {
+                *v = (f64::from(slope) * f64::from(*v) + f64::from(inter)) as f32;
+            }
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Err(bad(
+                    path,
+                    format!(
+                        "value {i} is infinite after scaling by scl_slope {slope}, \
+                         scl_inter {inter}"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok((dims, values))
 }
 
 /// Loads a transfer function: JSON `{"points": [[s, r, g, b, a], ...]}` (or a bare array),
