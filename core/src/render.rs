@@ -113,12 +113,12 @@ pub struct RayMarcher<'v, V, M, F, O> {
 
 /// The empty-space test, chosen by type per ray so that a marcher without an occupancy grid
 /// has no test in its inner loop.
-trait Skip {
+pub(crate) trait Skip {
     fn empty(&self, pos: [f32; 3]) -> bool;
 }
 
 /// No skipping.
-struct NoSkip;
+pub(crate) struct NoSkip;
 
 impl Skip for NoSkip {
     #[inline(always)]

@@ -340,3 +340,71 @@ fn bad_grid_parameters_are_errors() {
     let r = Ray::new([1.0, 1.0, -1.0], [0.0, 0.0, 1.0]).unwrap();
     assert_eq!(fast.cast_counted(&r), m.cast_counted(&r));
 }
+
+/// The integer marcher with an occupancy grid is bit-identical too: every opacity-based
+/// integer mode, nearest and trilinear, with correction and early stop, at F = 4 and 8 (the
+/// quantized position may round up into the next voxel, which the grid's apron covers).
+#[test]
+fn integer_skipping_is_bit_identical() {
+    use volsample::fixed_point::{IntFilter, IntMode, IntRayMarcher, IntStop};
+
+    fn check_int<V, M, Fl, const F: u32>(
+        vol: Volume<'_, V>,
+        mode: M,
+        filter: Fl,
+        rays: &[Ray],
+    ) -> usize
+    where
+        V: Voxel,
+        M: IntMode<V> + Emptiness<V>,
+        Fl: IntFilter,
+    {
+        let mut hits = 0;
+        for (d, stop) in [(1.0, IntStop::NEVER), (0.37, IntStop::new(40_000).unwrap())] {
+            let plain =
+                IntRayMarcher::<_, _, _, F>::new(vol, mode, filter, stop, Step::new(d).unwrap())
+                    .unwrap();
+            for log2 in 0..=3 {
+                let mut buf = vec![0u8; Occupancy::buffer_len(vol.dims(), log2)];
+                let fast = plain.clone().with_skipping(&mut buf, log2).unwrap();
+                assert!(fast.occupancy().unwrap().occupied_bricks() > 0);
+                for r in rays {
+                    let a = plain.cast_counted(r);
+                    assert_eq!(
+                        a,
+                        fast.cast_counted(r),
+                        "{mode:?} F {F} log2 {log2} d {d} {r:?}"
+                    );
+                    hits += usize::from(log2 == 0 && a.0.a() > 20_000);
+                }
+            }
+        }
+        hits
+    }
+
+    let mut rng = Rng(17);
+    let rays = rays(&mut rng);
+    let mut hits = 0;
+    for seed in 0..3 {
+        let mut rng = Rng(200 + seed);
+        let u8s = sparse_u8(&mut rng);
+        let vol = Volume::new(&u8s, DIMS).unwrap();
+        hits += check_int::<_, _, _, 8>(vol, OpacityWeighted, Trilinear::new(), &rays);
+        hits += check_int::<_, _, _, 4>(vol, OpacityWeighted, Trilinear::new(), &rays);
+        hits += check_int::<_, _, _, 8>(vol, OpacityWeighted, Nearest, &rays);
+        hits += check_int::<_, _, _, 8>(vol, Separate, Trilinear::new(), &rays);
+        hits += check_int::<_, _, _, 4>(vol, Separate, Nearest, &rays);
+        let assoc: Vec<AssociatedU8> = u8s
+            .iter()
+            .map(|v| {
+                let a = v.0[3];
+                let c = |x: u8| ((u32::from(x) * u32::from(a) + 127) / 255) as u8;
+                AssociatedU8([c(v.0[0]), c(v.0[1]), c(v.0[2]), a])
+            })
+            .collect();
+        let vol = Volume::new(&assoc, DIMS).unwrap();
+        hits += check_int::<_, _, _, 8>(vol, Preweighted, Trilinear::new(), &rays);
+        hits += check_int::<_, _, _, 4>(vol, Preweighted, Nearest, &rays);
+    }
+    assert!(hits > 100, "{hits}");
+}

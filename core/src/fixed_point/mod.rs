@@ -470,6 +470,16 @@ impl<'a, V: Voxel, M: IntMode<V>, Fl: IntFilter> IntSampler<'a, V, M, Fl> {
         self.filter
     }
 
+    /// The volume.
+    pub const fn volume(&self) -> &Volume<'a, V> {
+        &self.vol
+    }
+
+    /// The mode.
+    pub const fn mode(&self) -> &M {
+        &self.mode
+    }
+
     /// Reconstructs the associated sample at `pos` (clamped to the edge).
     #[inline]
     pub fn sample<const F: u32>(&self, pos: IntPos<F>) -> IntSample {

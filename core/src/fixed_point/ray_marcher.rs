@@ -23,8 +23,9 @@ use super::DEFAULT_FRAC_BITS;
 use super::{check_frac_bits, IntCorrection, IntFilter, IntMode, IntPos, IntSample, IntSampler};
 use crate::error::Error;
 use crate::ray::{Camera, Ray};
-use crate::render::trace_image;
+use crate::render::{trace_image, NoSkip, Skip};
 use crate::render::{Step, MAX_SAMPLES_PER_RAY};
+use crate::skip::{Emptiness, Occupancy};
 use crate::volume::Volume;
 use crate::voxel::Voxel;
 
@@ -86,6 +87,7 @@ pub struct IntRayMarcher<'v, V, M, Fl, const F: u32 = DEFAULT_FRAC_BITS> {
     stop: IntStop,
     background: IntSample,
     correction: Option<IntCorrection>,
+    skip: Option<Occupancy<'v>>,
 }
 
 impl<'v, V, M, Fl, const F: u32> IntRayMarcher<'v, V, M, Fl, F>
@@ -133,7 +135,45 @@ where
             stop,
             background: IntSample::TRANSPARENT,
             correction,
+            skip: None,
         })
+    }
+
+    /// Enables empty-space skipping, as the float
+    /// [`RayMarcher::with_skipping`](crate::RayMarcher::with_skipping) does: an occupancy grid
+    /// of this marcher's volume and mode (bricks of `2^log2` voxels) in `buffer`, and the
+    /// samples it proves transparent stepped over. The quantized position may round up into
+    /// the next voxel (by less than `2^−(F+1)`), whose taps the grid's apron still covers, so
+    /// results and sample counts stay bit-identical. Offered for the opacity-based integer
+    /// modes (not yet for the integer extinction mode).
+    ///
+    /// # Errors
+    /// As [`Occupancy::build`].
+    pub fn with_skipping<'g>(
+        self,
+        buffer: &'g mut [u8],
+        log2: u32,
+    ) -> Result<IntRayMarcher<'g, V, M, Fl, F>, Error>
+    where
+        'v: 'g,
+        M: Emptiness<V>,
+    {
+        let grid = Occupancy::build(self.sampler.volume(), self.sampler.mode(), log2, buffer)?;
+        Ok(IntRayMarcher {
+            sampler: self.sampler,
+            dims: self.dims,
+            hi: self.hi,
+            step: self.step,
+            stop: self.stop,
+            background: self.background,
+            correction: self.correction,
+            skip: Some(grid),
+        })
+    }
+
+    /// The occupancy grid in use, if skipping is enabled.
+    pub fn occupancy(&self) -> Option<&Occupancy<'v>> {
+        self.skip.as_ref()
     }
 
     /// Sets a background, composited behind every ray with the same integer
@@ -205,15 +245,17 @@ where
     /// ray's sample count when early termination stops it).
     #[inline]
     pub fn cast_counted(&self, ray: &Ray) -> (IntSample, u32) {
-        let (acc, n) = match &self.correction {
-            Some(c) => self.march(ray, c),
-            None => self.march(ray, &Identity),
+        let (acc, n) = match (&self.correction, &self.skip) {
+            (Some(c), None) => self.march(ray, c, &NoSkip),
+            (None, None) => self.march(ray, &Identity, &NoSkip),
+            (Some(c), Some(g)) => self.march(ray, c, g),
+            (None, Some(g)) => self.march(ray, &Identity, g),
         };
         (front_to_back(acc, self.background), n)
     }
 
     #[inline(always)]
-    fn march<C: Stage>(&self, ray: &Ray, corr: &C) -> (IntSample, u32) {
+    fn march<C: Stage, S: Skip>(&self, ray: &Ray, corr: &C, skip: &S) -> (IntSample, u32) {
         let (t_first, n) = self.sample_range(ray);
         let d = self.step.d();
         let a_stop = self.stop.a_stop();
@@ -222,7 +264,13 @@ where
             if acc.a() >= a_stop {
                 return (acc, j);
             }
-            let s = self.sample_with(ray.at(t_first + j as f32 * d), corr);
+            let p = ray.at(t_first + j as f32 * d);
+            // A skipped sample is exactly transparent: `acc`, the stop test and the count
+            // are what compositing it would have left.
+            if skip.empty(p) {
+                continue;
+            }
+            let s = self.sample_with(p, corr);
             acc = front_to_back(acc, s);
         }
         (acc, n)
