@@ -24,7 +24,7 @@ use crate::mode::Mode;
 use crate::opacity::{Corrected, Correction, Uncorrected};
 use crate::ray::{Camera, Ray};
 use crate::sample::Sample;
-use crate::skip::{Emptiness, Occupancy};
+use crate::skip::{Emptiness, NoSkip, Occupancy, Skipping};
 use crate::volume::Volume;
 use crate::voxel::Voxel;
 
@@ -100,41 +100,18 @@ impl Step {
 /// # Ok::<(), volsample::Error>(())
 /// ```
 #[derive(Debug, Clone, Copy)]
-pub struct RayMarcher<'v, V, M, F, O> {
+pub struct RayMarcher<'v, V, M, F, O, S = NoSkip> {
     volume: Volume<'v, V>,
     mode: M,
     order: O,
     step: Step,
     background: Sample,
     correction: Option<Corrected>,
-    skip: Option<Occupancy<'v>>,
+    skip: S,
     filter: PhantomData<F>,
 }
 
-/// The empty-space test, chosen by type per ray so that a marcher without an occupancy grid
-/// has no test in its inner loop.
-pub(crate) trait Skip {
-    fn empty(&self, pos: [f32; 3]) -> bool;
-}
-
-/// No skipping.
-pub(crate) struct NoSkip;
-
-impl Skip for NoSkip {
-    #[inline(always)]
-    fn empty(&self, _pos: [f32; 3]) -> bool {
-        false
-    }
-}
-
-impl Skip for Occupancy<'_> {
-    #[inline(always)]
-    fn empty(&self, pos: [f32; 3]) -> bool {
-        self.is_empty_at(pos)
-    }
-}
-
-impl<'v, V, M, F, O> RayMarcher<'v, V, M, F, O>
+impl<'v, V, M, F, O> RayMarcher<'v, V, M, F, O, NoSkip>
 where
     V: Voxel,
     M: Mode<V>,
@@ -172,7 +149,7 @@ where
             step,
             background: Sample::TRANSPARENT,
             correction,
-            skip: None,
+            skip: NoSkip,
             filter: PhantomData,
         })
     }
@@ -182,6 +159,8 @@ where
     /// [`Occupancy::buffer_len`] bytes) and steps over the samples it proves transparent.
     /// Results, sample counts included, are bit-identical to the marcher without it (see
     /// [`skip`](crate::skip)); the grid costs one byte per brick and one lookup per sample.
+    /// The skipping marcher is its own type, so a marcher without it has no test in its
+    /// inner loop and no extra code.
     ///
     /// # Errors
     /// As [`Occupancy::build`].
@@ -189,7 +168,7 @@ where
         self,
         buffer: &'g mut [u8],
         log2: u32,
-    ) -> Result<RayMarcher<'g, V, M, F, O>, Error>
+    ) -> Result<RayMarcher<'g, V, M, F, O, Occupancy<'g>>, Error>
     where
         'v: 'g,
         M: Emptiness<V>,
@@ -202,16 +181,27 @@ where
             step: self.step,
             background: self.background,
             correction: self.correction,
-            skip: Some(grid),
+            skip: grid,
             filter: PhantomData,
         })
     }
+}
 
-    /// The occupancy grid in use, if skipping is enabled.
+impl<'v, V, M, F, O> RayMarcher<'v, V, M, F, O, Occupancy<'v>> {
+    /// The occupancy grid in use.
     pub fn occupancy(&self) -> Option<&Occupancy<'v>> {
-        self.skip.as_ref()
+        Some(&self.skip)
     }
+}
 
+impl<'v, V, M, F, O, S> RayMarcher<'v, V, M, F, O, S>
+where
+    V: Voxel,
+    M: Mode<V>,
+    F: Filter,
+    O: Order,
+    S: Skipping,
+{
     /// Sets an associated background color, composited behind every ray.
     ///
     /// # Errors
@@ -266,11 +256,9 @@ where
     /// is not used.
     #[inline(always)]
     pub fn cast_counted(&self, ray: &Ray) -> (Sample, u32) {
-        let (acc, n) = match (&self.correction, &self.skip) {
-            (Some(c), None) => self.march(ray, c, &NoSkip),
-            (None, None) => self.march(ray, &Uncorrected, &NoSkip),
-            (Some(c), Some(g)) => self.march(ray, c, g),
-            (None, Some(g)) => self.march(ray, &Uncorrected, g),
+        let (acc, n) = match &self.correction {
+            Some(c) => self.march(ray, c),
+            None => self.march(ray, &Uncorrected),
         };
         (over(acc, self.background), n)
     }
@@ -288,7 +276,7 @@ where
     }
 
     #[inline(always)]
-    fn march<C: Correction, S: Skip>(&self, ray: &Ray, corr: &C, skip: &S) -> (Sample, u32) {
+    fn march<C: Correction>(&self, ray: &Ray, corr: &C) -> (Sample, u32) {
         let (t_first, n) = self.samples(ray);
         let d = self.step.d;
         let mut acc = Sample::TRANSPARENT;
@@ -298,7 +286,7 @@ where
                 let p = ray.at(t_first + j as f32 * d);
                 // A skipped sample is transparent, so `acc` and the termination test are
                 // unchanged by it (and it was not done after the previous sample).
-                if skip.empty(p) {
+                if self.skip.empty(p) {
                     continue;
                 }
                 let s = self.sample_with(p, corr);
@@ -310,7 +298,7 @@ where
         } else {
             for j in (0..n).rev() {
                 let p = ray.at(t_first + j as f32 * d);
-                if skip.empty(p) {
+                if self.skip.empty(p) {
                     continue;
                 }
                 let s = self.sample_with(p, corr);

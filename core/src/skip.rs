@@ -82,6 +82,35 @@ impl<V: ExtinctionVoxel> Emptiness<V> for ExtinctionWeighted {
     }
 }
 
+/// How a ray marcher tests for empty space, chosen by type: [`NoSkip`] (the default, no test
+/// and no code) or an [`Occupancy`] grid. Sealed.
+pub trait Skipping: sealed::Sealed + Copy + core::fmt::Debug {
+    /// Whether the sample at `pos` reads only empty voxels.
+    fn empty(&self, pos: [f32; 3]) -> bool;
+}
+
+/// No empty-space skipping: the marchers' default.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NoSkip;
+
+impl sealed::Sealed for NoSkip {}
+
+impl Skipping for NoSkip {
+    #[inline(always)]
+    fn empty(&self, _pos: [f32; 3]) -> bool {
+        false
+    }
+}
+
+impl sealed::Sealed for Occupancy<'_> {}
+
+impl Skipping for Occupancy<'_> {
+    #[inline(always)]
+    fn empty(&self, pos: [f32; 3]) -> bool {
+        self.is_empty_at(pos)
+    }
+}
+
 /// A built occupancy grid over a caller's buffer: one byte per brick, 1 where the brick (with
 /// its apron) holds a non-empty voxel.
 #[derive(Debug, Clone, Copy)]

@@ -23,9 +23,9 @@ use super::DEFAULT_FRAC_BITS;
 use super::{check_frac_bits, IntCorrection, IntFilter, IntMode, IntPos, IntSample, IntSampler};
 use crate::error::Error;
 use crate::ray::{Camera, Ray};
-use crate::render::{trace_image, NoSkip, Skip};
+use crate::render::trace_image;
 use crate::render::{Step, MAX_SAMPLES_PER_RAY};
-use crate::skip::{Emptiness, Occupancy};
+use crate::skip::{Emptiness, NoSkip, Occupancy, Skipping};
 use crate::volume::Volume;
 use crate::voxel::Voxel;
 
@@ -79,7 +79,7 @@ impl Stage for IntCorrection {
 /// # Ok::<(), volsample::Error>(())
 /// ```
 #[derive(Debug, Clone)]
-pub struct IntRayMarcher<'v, V, M, Fl, const F: u32 = DEFAULT_FRAC_BITS> {
+pub struct IntRayMarcher<'v, V, M, Fl, const F: u32 = DEFAULT_FRAC_BITS, S = NoSkip> {
     sampler: IntSampler<'v, V, M, Fl>,
     dims: [usize; 3],
     hi: [f32; 3],
@@ -87,10 +87,10 @@ pub struct IntRayMarcher<'v, V, M, Fl, const F: u32 = DEFAULT_FRAC_BITS> {
     stop: IntStop,
     background: IntSample,
     correction: Option<IntCorrection>,
-    skip: Option<Occupancy<'v>>,
+    skip: S,
 }
 
-impl<'v, V, M, Fl, const F: u32> IntRayMarcher<'v, V, M, Fl, F>
+impl<'v, V, M, Fl, const F: u32> IntRayMarcher<'v, V, M, Fl, F, NoSkip>
 where
     V: Voxel,
     M: IntMode<V>,
@@ -135,7 +135,7 @@ where
             stop,
             background: IntSample::TRANSPARENT,
             correction,
-            skip: None,
+            skip: NoSkip,
         })
     }
 
@@ -153,7 +153,7 @@ where
         self,
         buffer: &'g mut [u8],
         log2: u32,
-    ) -> Result<IntRayMarcher<'g, V, M, Fl, F>, Error>
+    ) -> Result<IntRayMarcher<'g, V, M, Fl, F, Occupancy<'g>>, Error>
     where
         'v: 'g,
         M: Emptiness<V>,
@@ -167,15 +167,25 @@ where
             stop: self.stop,
             background: self.background,
             correction: self.correction,
-            skip: Some(grid),
+            skip: grid,
         })
     }
+}
 
-    /// The occupancy grid in use, if skipping is enabled.
+impl<'v, V, M, Fl, const F: u32> IntRayMarcher<'v, V, M, Fl, F, Occupancy<'v>> {
+    /// The occupancy grid in use.
     pub fn occupancy(&self) -> Option<&Occupancy<'v>> {
-        self.skip.as_ref()
+        Some(&self.skip)
     }
+}
 
+impl<'v, V, M, Fl, const F: u32, S> IntRayMarcher<'v, V, M, Fl, F, S>
+where
+    V: Voxel,
+    M: IntMode<V>,
+    Fl: IntFilter,
+    S: Skipping,
+{
     /// Sets a background, composited behind every ray with the same integer
     /// [`front_to_back`] step.
     pub fn with_background(mut self, bg: IntSample) -> Self {
@@ -245,17 +255,15 @@ where
     /// ray's sample count when early termination stops it).
     #[inline]
     pub fn cast_counted(&self, ray: &Ray) -> (IntSample, u32) {
-        let (acc, n) = match (&self.correction, &self.skip) {
-            (Some(c), None) => self.march(ray, c, &NoSkip),
-            (None, None) => self.march(ray, &Identity, &NoSkip),
-            (Some(c), Some(g)) => self.march(ray, c, g),
-            (None, Some(g)) => self.march(ray, &Identity, g),
+        let (acc, n) = match &self.correction {
+            Some(c) => self.march(ray, c),
+            None => self.march(ray, &Identity),
         };
         (front_to_back(acc, self.background), n)
     }
 
     #[inline(always)]
-    fn march<C: Stage, S: Skip>(&self, ray: &Ray, corr: &C, skip: &S) -> (IntSample, u32) {
+    fn march<C: Stage>(&self, ray: &Ray, corr: &C) -> (IntSample, u32) {
         let (t_first, n) = self.sample_range(ray);
         let d = self.step.d();
         let a_stop = self.stop.a_stop();
@@ -267,7 +275,7 @@ where
             let p = ray.at(t_first + j as f32 * d);
             // A skipped sample is exactly transparent: `acc`, the stop test and the count
             // are what compositing it would have left.
-            if skip.empty(p) {
+            if self.skip.empty(p) {
                 continue;
             }
             let s = self.sample_with(p, corr);
