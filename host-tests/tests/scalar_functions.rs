@@ -163,3 +163,33 @@ proptest! {
         prop_assert!((got - want).abs() <= tol::LIGHT_FACTOR_ABS, "{got} vs {want}");
     }
 }
+
+/// `integrate_step` reuses its `α = −expm1(−τd)` for `φ(τd)` (one `expm1f` per sample): its
+/// color below `τd = 1` must stay bit-identical to `C^τ·(d·φ(τd))` with `φ` computed on its
+/// own, on both sides of the series switch-over and up to the branch at 1.
+#[test]
+fn integrate_step_color_uses_phi_bit_for_bit() {
+    let mut x = PHI_SERIES_BELOW / 64.0;
+    let mut checked = 0;
+    while x < 1.0 {
+        for d in [0.25f32, 0.5, 1.0, 1.7] {
+            let tau = x / d;
+            let xd = tau * d;
+            if xd >= 1.0 {
+                continue;
+            }
+            let c_tau = [0.3 * tau, 0.6 * tau, 0.9 * tau];
+            let s = integrate_step(c_tau, tau, d);
+            let g = d * phi(xd);
+            let want = c_tau.map(|c| (c * g).max(0.0).min(s.a));
+            assert_eq!(
+                s.c.map(f32::to_bits),
+                want.map(f32::to_bits),
+                "τ = {tau}, d = {d}"
+            );
+            checked += 1;
+        }
+        x *= 1.0 + 1.0 / 64.0;
+    }
+    assert!(checked > 1000, "{checked} cases");
+}

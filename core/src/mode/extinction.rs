@@ -2,7 +2,7 @@
 
 use super::{linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
 use crate::num::Num;
-use crate::opacity::phi;
+use crate::opacity::phi_with;
 use crate::sample::{Interp, Sample};
 use crate::voxel::ExtinctionVoxel;
 
@@ -62,7 +62,8 @@ pub fn integrate_step(c_tau: [f32; 3], tau: f32, d: f32) -> Sample {
     let x = tau * d;
     let a = -libm::expm1f(-x);
     let c = if x < 1.0 {
-        let g = d * phi(x);
+        // φ(x) reuses α = 1 − e^(−x): one `expm1f` per sample (bit-identical to `phi(x)`).
+        let g = d * phi_with(x, || a);
         c_tau.map(|c| c * g)
     } else {
         c_tau.map(|c| (c / tau) * a)
