@@ -34,9 +34,11 @@
 //! ```
 
 use crate::error::Error;
-use crate::mode::{sealed, ExtinctionWeighted, OpacityWeighted, Preweighted, Separate};
+use crate::mode::{
+    sealed, ExtinctionWeighted, ExtinctionWeightedU8, OpacityWeighted, Preweighted, Separate,
+};
 use crate::volume::Volume;
-use crate::voxel::{AssociatedVoxel, ExtinctionVoxel, StraightVoxel, Voxel};
+use crate::voxel::{AssociatedVoxel, ExtinctionVoxel, StraightU8, StraightVoxel, Voxel};
 
 /// The largest brick size exponent: bricks of up to `256³` voxels.
 pub const MAX_BRICK_LOG2: u32 = 8;
@@ -47,7 +49,7 @@ pub const MAX_BRICK_LOG2: u32 = 8;
 /// Implemented where that holds by construction: `OpacityWeighted` and `Separate` on straight
 /// voxels (`α = 0`: every color is weighted by an opacity that is 0), `Preweighted` on
 /// associated voxels (`α = 0`, hence `C̃ = 0`), `ExtinctionWeighted` (`τ = 0`, hence
-/// `C^τ = 0`). Not for `PostClassified`: interpolating two scalars that classify as
+/// `C^τ = 0`) and `ExtinctionWeightedU8` (an opacity byte whose `τ` is 0). Not for `PostClassified`: interpolating two scalars that classify as
 /// transparent can land on one that does not.
 pub trait Emptiness<V: Voxel>: sealed::Sealed {
     /// Whether `v` contributes nothing wherever it is a tap.
@@ -79,6 +81,13 @@ impl<V: ExtinctionVoxel> Emptiness<V> for ExtinctionWeighted {
     #[inline]
     fn is_empty(&self, v: &V) -> bool {
         v.extinction::<f32>().1 == 0.0
+    }
+}
+
+impl Emptiness<StraightU8> for ExtinctionWeightedU8<'_> {
+    #[inline]
+    fn is_empty(&self, v: &StraightU8) -> bool {
+        self.table().tau(v.0[3]) == 0.0
     }
 }
 

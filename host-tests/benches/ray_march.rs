@@ -24,6 +24,7 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use volsample::fixed_point::{IntRayMarcher, IntStop};
+use volsample::mode::{ExtinctionWeightedU8, TauTable};
 use volsample::skip::Occupancy;
 use volsample::{
     ExtinctionF32, ExtinctionWeighted, FrontToBack, OpacityWeighted, Ray, RayMarcher, Separate,
@@ -124,6 +125,15 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         step,
     )
     .unwrap();
+    let table = TauTable::new(D).unwrap();
+    let em8 = RayMarcher::new(
+        vol,
+        ExtinctionWeightedU8::new(&table),
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap();
     let mut grid = vec![0u8; Occupancy::buffer_len([256; 3], 3)];
     let skip = ow.with_skipping(&mut grid, 3).unwrap();
     let n: u64 = rays.iter().map(|r| u64::from(ow.sample_range(r).1)).sum();
@@ -137,7 +147,8 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         "OpacityWeighted f32",
         "Separate f32",
         "OpacityWeighted int F=8",
-        "ExtinctionWeighted f32 (exact exp)",
+        "ExtinctionWeighted f32 (exact exp), 16-byte voxels",
+        "ExtinctionWeightedU8 (exact exp), RGBA8 + TauTable",
         "OpacityWeighted f32 + skipping grid (nothing empty)",
     ];
     let mut per = vec![Vec::new(); names.len()];
@@ -147,6 +158,7 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
             time(&|| rays.iter().map(|r| sep.cast(r).a).sum()),
             time(&|| rays.iter().map(|r| f32::from(int_ow.cast(r).a())).sum()),
             time(&|| rays.iter().map(|r| em.cast(r).a).sum()),
+            time(&|| rays.iter().map(|r| em8.cast(r).a).sum()),
             time(&|| rays.iter().map(|r| skip.cast(r).a).sum()),
         ];
         for (p, x) in per.iter_mut().zip(t) {
@@ -266,6 +278,30 @@ fn bench(c: &mut Criterion) {
                 let mut s = 0.0f32;
                 for r in &rays256 {
                     let p = em.cast(r);
+                    s += p.a + p.c[0];
+                }
+                black_box(s)
+            })
+        });
+    }
+
+    {
+        // The same extinction sampling read from the 4-byte RGBA8 volume through a τ table
+        // (bit-identical to the 16-byte volume above, `tests/extinction_u8.rs`).
+        let table = TauTable::new(D).unwrap();
+        let em8 = RayMarcher::new(
+            vol,
+            ExtinctionWeightedU8::new(&table),
+            Trilinear::new(),
+            FrontToBack::new(),
+            step,
+        )
+        .unwrap();
+        g.bench_function("extinction_u8_exact_exp_256", |b| {
+            b.iter(|| {
+                let mut s = 0.0f32;
+                for r in &rays256 {
+                    let p = em8.cast(r);
                     s += p.a + p.c[0];
                 }
                 black_box(s)

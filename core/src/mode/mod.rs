@@ -6,6 +6,7 @@
 //! | [`OpacityWeighted`] | `ω_i = w_i·α_i` | `α = Σ ω`, `C̃ = Σ ω C` (Wittenbrink 1998) |
 //! | [`Preweighted`] | stored `C̃_i` | `α = Σ wα`, `C̃ = Σ wC̃` (Drebin 1988) |
 //! | [`ExtinctionWeighted`] | `τ_i`, `C^τ_i` | `α = 1 − e^(−τd)`, `C̃ = C^τ·α/τ` (Kraus 2008) |
+//! | [`ExtinctionWeightedU8`] | the same, `τ_i` of 8-bit opacities from a [`TauTable`] | as `ExtinctionWeighted` |
 //! | [`PostClassified`] | scalar `s_i` | `(C, α) = TF(Σ ws)`, `C̃ = α·C` |
 //!
 //! A mode is a type implementing [`Mode<V>`] for the voxel formats it can read; the kernels are
@@ -15,12 +16,14 @@
 //! ([`Mode::tree8`]).
 
 mod extinction;
+mod extinction_u8;
 mod opacity_weighted;
 mod post_classified;
 mod preweighted;
 mod separate;
 
 pub use extinction::{integrate_step, ExtinctionWeighted};
+pub use extinction_u8::{ExtinctionWeightedU8, TauTable};
 pub use opacity_weighted::OpacityWeighted;
 pub use post_classified::PostClassified;
 pub use preweighted::Preweighted;

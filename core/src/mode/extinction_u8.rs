@@ -1,0 +1,151 @@
+//! `ExtinctionWeightedU8`: extinction-based sampling read straight from 8-bit straight RGBA.
+
+use super::{integrate_step, linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
+use crate::error::Error;
+use crate::num::Num;
+use crate::sample::{Interp, Sample};
+use crate::voxel::{unorm8, ExtinctionF32, StraightF32, StraightU8};
+
+/// The extinction `τ = −ln(1 − α)/d′` of every opacity byte (`α = n/255`) for a reference
+/// distance `d′`, with the optical depth capped as [`ExtinctionF32::from_straight`] caps it:
+/// 256 `f32` (1 KiB), built once per volume.
+///
+/// ```
+/// use volsample::mode::TauTable;
+/// let t = TauTable::new(0.5)?;
+/// assert_eq!(t.tau(0), 0.0);
+/// assert!((t.tau(128) - (-(1.0f32 - 128.0 / 255.0).ln() / 0.5)).abs() < 1e-6);
+/// assert!(TauTable::new(0.0).is_err());
+/// # Ok::<(), volsample::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct TauTable {
+    d_ref: f32,
+    tau: [f32; 256],
+}
+
+impl TauTable {
+    /// The table for opacities that hold for distance `d_ref`.
+    ///
+    /// Entry `n` is exactly the `τ` of [`ExtinctionF32::from_straight`] for `α = n/255`
+    /// (correctly rounded to `f32`), so a volume read through the table samples bit for bit
+    /// like the same volume converted to [`ExtinctionF32`] first.
+    ///
+    /// # Errors
+    /// [`Error::InvalidReferenceDistance`] unless `d_ref` is finite and positive.
+    pub fn new(d_ref: f32) -> Result<Self, Error> {
+        if !(d_ref.is_finite() && d_ref > 0.0) {
+            return Err(Error::InvalidReferenceDistance);
+        }
+        let mut tau = [0.0f32; 256];
+        for (t, n) in tau.iter_mut().zip(0..=u8::MAX) {
+            let straight = StraightF32 {
+                c: [0.0; 3],
+                a: unorm8(n),
+            };
+            *t = ExtinctionF32::from_straight(straight, d_ref).tau;
+        }
+        Ok(Self { d_ref, tau })
+    }
+
+    /// The reference distance the table was built for.
+    pub fn d_ref(&self) -> f32 {
+        self.d_ref
+    }
+
+    /// `τ` of opacity byte `n`.
+    #[inline(always)]
+    pub fn tau(&self, n: u8) -> f32 {
+        // 256 entries: the lookup cannot miss; `get` keeps the crate panic-free.
+        self.tau.get(usize::from(n)).copied().unwrap_or(0.0)
+    }
+
+    /// The extinction form of a straight voxel: `τ` from the table, `C^τ = min(τ·C, τ)` with
+    /// `C = n/255`, the same operations as [`ExtinctionF32::from_straight`], so bit-identical
+    /// to it.
+    #[inline(always)]
+    pub fn extinction(&self, v: StraightU8) -> ExtinctionF32 {
+        let [r, g, b, a] = v.0;
+        let tau = self.tau(a);
+        ExtinctionF32 {
+            c_tau: [r, g, b].map(|c| (tau * unorm8(c)).min(tau)),
+            tau,
+        }
+    }
+}
+
+/// [`ExtinctionWeighted`](super::ExtinctionWeighted) over straight 8-bit RGBA voxels, their
+/// opacities read as extinction through a [`TauTable`] per tap: 4 bytes a voxel instead of the
+/// 16 of [`ExtinctionF32`], so a large volume costs what `OpacityWeighted` costs in memory
+/// traffic. Results are bit-identical to `ExtinctionWeighted` over the volume converted with
+/// [`TauTable::extinction`] (equivalently [`ExtinctionF32::from_straight`] of `n/255`), so
+/// its error bound is `ExtinctionWeighted`'s, on those values.
+///
+/// The table's `d′` is the distance the stored opacities hold for; an extinction mode never
+/// corrects opacity, so the volume's own reference distance is not used.
+///
+/// ```
+/// use volsample::mode::{ExtinctionWeightedU8, TauTable};
+/// use volsample::{FrontToBack, RayMarcher, Step, StraightU8, Trilinear, Volume};
+/// let voxels = [StraightU8([200, 100, 50, 128]); 8];
+/// let vol = Volume::new(&voxels, [2, 2, 2])?;
+/// let tau = TauTable::new(1.0)?;
+/// let m = RayMarcher::new(
+///     vol, ExtinctionWeightedU8::new(&tau), Trilinear::new(), FrontToBack::new(), Step::new(1.0)?,
+/// )?;
+/// // One step of length d = d′ through a uniform medium gives back the stored opacity.
+/// assert!((m.sample([0.5, 0.5, 0.5]).a - 128.0 / 255.0).abs() < 1e-6);
+/// # Ok::<(), volsample::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExtinctionWeightedU8<'t> {
+    table: &'t TauTable,
+}
+
+impl<'t> ExtinctionWeightedU8<'t> {
+    /// The mode reading opacities through `table`.
+    pub fn new(table: &'t TauTable) -> Self {
+        Self { table }
+    }
+
+    /// The table.
+    pub fn table(&self) -> &'t TauTable {
+        self.table
+    }
+
+    #[inline(always)]
+    fn channels<T: Num>(&self, v: StraightU8) -> ([T; 3], T) {
+        let e = self.table.extinction(v);
+        (e.c_tau.map(T::from_f32), T::from_f32(e.tau))
+    }
+}
+
+impl sealed::Sealed for ExtinctionWeightedU8<'_> {}
+
+impl Mode<StraightU8> for ExtinctionWeightedU8<'_> {
+    const OPACITY_BASED: bool = false;
+
+    #[inline(always)]
+    fn weighted<T: Num, const K: usize>(&self, taps: &[StraightU8; K], w: &[T; K]) -> Interp<T> {
+        linear_weighted(&taps.map(|v| self.channels::<T>(v)), w)
+    }
+
+    #[inline(always)]
+    fn weighted8_f32(&self, taps: &[StraightU8; 8], w: &[f32; 8]) -> Interp<f32> {
+        let u = taps.map(|v| {
+            let e = self.table.extinction(v);
+            [e.c_tau[0], e.c_tau[1], e.c_tau[2], e.tau]
+        });
+        linear_weighted8_f32(&u, w)
+    }
+
+    #[inline(always)]
+    fn tree8<T: Num>(&self, taps: &[StraightU8; 8], f: [T; 3]) -> Interp<T> {
+        linear_tree(&taps.map(|v| self.channels::<T>(v)), f)
+    }
+
+    #[inline(always)]
+    fn finish(&self, i: Interp<f32>, d: f32) -> Sample {
+        integrate_step(i.c, i.a, d)
+    }
+}
