@@ -49,8 +49,9 @@ pub const MAX_BRICK_LOG2: u32 = 8;
 /// Implemented where that holds by construction: `OpacityWeighted` and `Separate` on straight
 /// voxels (`α = 0`: every color is weighted by an opacity that is 0), `Preweighted` on
 /// associated voxels (`α = 0`, hence `C̃ = 0`), `ExtinctionWeighted` (`τ = 0`, hence
-/// `C^τ = 0`) and `ExtinctionWeightedU8` (an opacity byte whose `τ` is 0). Not for `PostClassified`: interpolating two scalars that classify as
-/// transparent can land on one that does not.
+/// `C^τ = 0`) and `ExtinctionWeightedU8` (an opacity byte whose `τ` is 0). Not for
+/// `PostClassified`: interpolating two scalars that classify as transparent can land on one
+/// that does not.
 pub trait Emptiness<V: Voxel>: sealed::Sealed {
     /// Whether `v` contributes nothing wherever it is a tap.
     fn is_empty(&self, v: &V) -> bool;
