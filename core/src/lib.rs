@@ -53,7 +53,7 @@ pub mod voxel;
 
 pub use composite::{BackToFront, FrontToBack, Never, Threshold};
 pub use error::Error;
-pub use filter::{Filter, Nearest, Tree, Trilinear, TriquadraticBSpline, WeightedSum};
+pub use filter::{Filter, Nearest, TapCache, Tree, Trilinear, TriquadraticBSpline, WeightedSum};
 pub use mode::{ExtinctionWeighted, Mode, OpacityWeighted, PostClassified, Preweighted, Separate};
 pub use num::Num;
 pub use ray::{Camera, Orthographic, Perspective, Ray};
