@@ -13,6 +13,7 @@
 //! 1 minus the others, in the order the kernels sum them), so constant data, in particular an
 //! opaque region, is reproduced exactly.
 
+use crate::cell_cache::FaceCache;
 use crate::mode::{combine_faces, Face, Mode};
 use crate::num::Num;
 use crate::sample::Interp;
@@ -65,49 +66,15 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
 /// arithmetic on the same values, so results are bit-identical. The cache is only valid for
 /// one volume and mode: the ray marchers make a new one for every ray.
 #[derive(Debug, Clone, Copy)]
-pub struct TapCache {
-    /// Linear index of the cell's low corner, or `usize::MAX` for none.
-    base: usize,
-    /// The cell's two faces of constant `z`: `faces[flip]` is the bottom one (taps 0–3),
-    /// the other the top one, so moving one cell along `z` rewrites one face, not both.
-    faces: [Face; 2],
-    flip: bool,
-}
+pub struct TapCache(FaceCache<Face>);
 
 impl TapCache {
     /// An empty cache.
     pub const fn new() -> Self {
-        let empty = Face {
+        Self(FaceCache::new(Face {
             u: [[0.0; 4]; 4],
             k: [0.0; 4],
-        };
-        Self {
-            base: usize::MAX,
-            faces: [empty; 2],
-            flip: false,
-        }
-    }
-
-    /// The bottom and the top face.
-    #[inline(always)]
-    fn faces(&self) -> (&Face, &Face) {
-        let [a, b] = &self.faces;
-        if self.flip {
-            (b, a)
-        } else {
-            (a, b)
-        }
-    }
-
-    /// The bottom and the top face, mutably.
-    #[inline(always)]
-    fn faces_mut(&mut self) -> (&mut Face, &mut Face) {
-        let [a, b] = &mut self.faces;
-        if self.flip {
-            (b, a)
-        } else {
-            (a, b)
-        }
+        }))
     }
 }
 
@@ -231,55 +198,13 @@ impl TrilinearOrder for WeightedSum {
             let f = [x - xi as f32, y - yi as f32, z - zi as f32];
             // In range: the cell is interior, so `base + nx·ny + nx + 1 < nx·ny·nz`.
             let base = xi as usize + nx * (yi as usize + ny * zi as usize);
-            if base != cache.base && !refill(mode, vol, base, cache) {
-                let (taps, _) = Trilinear::<Self>::gather_clamped(vol, pos);
-                return mode.weighted8_f32(&taps, &trilinear_weights(f));
+            if let Some((lo, hi)) = cache.0.cell(vol, base, |t| Face::new(mode, t)) {
+                return combine_faces(lo, hi, &trilinear_weights(f));
             }
-            let (lo, hi) = cache.faces();
-            return combine_faces(lo, hi, &trilinear_weights(f));
         }
         let (taps, f) = Trilinear::<Self>::gather_clamped(vol, pos);
         mode.weighted8_f32(&taps, &trilinear_weights(f))
     }
-}
-
-/// Moves `cache` to the interior cell with low corner `base`: from the cell below or above
-/// in `z` it keeps the shared face and reads the other 4 taps, otherwise all 8. `false`
-/// (cache left unchanged) only if the slice does not hold the cell, which an interior cell
-/// of a validated volume never is.
-#[inline(always)]
-fn refill<V: Voxel, M: Mode<V>>(
-    mode: &M,
-    vol: &Volume<'_, V>,
-    base: usize,
-    cache: &mut TapCache,
-) -> bool {
-    let [nx, ny, _] = vol.dims();
-    let plane = nx * ny;
-    if base == cache.base.wrapping_add(plane) {
-        // One cell up: the old top face is the new bottom face.
-        let Some(top) = vol.face_at(base + plane) else {
-            return false;
-        };
-        cache.flip = !cache.flip;
-        *cache.faces_mut().1 = Face::new(mode, top);
-    } else if base.wrapping_add(plane) == cache.base {
-        // One cell down: the old bottom face is the new top face.
-        let Some(bottom) = vol.face_at(base) else {
-            return false;
-        };
-        cache.flip = !cache.flip;
-        *cache.faces_mut().0 = Face::new(mode, bottom);
-    } else {
-        let (Some(bottom), Some(top)) = (vol.face_at(base), vol.face_at(base + plane)) else {
-            return false;
-        };
-        let (lo, hi) = cache.faces_mut();
-        *lo = Face::new(mode, bottom);
-        *hi = Face::new(mode, top);
-    }
-    cache.base = base;
-    true
 }
 
 /// The 8 trilinear weights from fractions `[x, y, z]`, indexed like the taps

@@ -33,6 +33,7 @@
 #![no_std]
 #![doc(test(attr(deny(warnings))))]
 
+mod cell_cache;
 pub mod classify;
 pub mod composite;
 pub mod downsample;
