@@ -13,8 +13,7 @@
 //! 1 minus the others, in the order the kernels sum them), so constant data, in particular an
 //! opaque region, is reproduced exactly.
 
-use crate::cell_cache::FaceCache;
-use crate::mode::{combine_faces, Face, Mode};
+use crate::mode::Mode;
 use crate::num::Num;
 use crate::sample::Interp;
 use crate::volume::Volume;
@@ -40,48 +39,6 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
         vol: &Volume<'_, V>,
         pos: [f32; 3],
     ) -> Interp<f32>;
-
-    /// [`interpolate`](Self::interpolate) for the next sample of a ray, keeping per-ray state
-    /// in `cache` (start each ray with [`TapCache::new`]): bit-identical to `interpolate`.
-    /// [`Trilinear`] as a weighted sum keeps the converted taps of the last cell; the other
-    /// filters ignore the cache.
-    #[inline(always)]
-    fn interpolate_along<V: Voxel, M: Mode<V>>(
-        mode: &M,
-        vol: &Volume<'_, V>,
-        pos: [f32; 3],
-        cache: &mut TapCache,
-    ) -> Interp<f32> {
-        let _ = cache;
-        Self::interpolate(mode, vol, pos)
-    }
-}
-
-/// Per-ray state of [`Filter::interpolate_along`]: the [`Mode::lanes`] of the 8 taps of the
-/// last interior trilinear cell a ray sampled, and where that cell is.
-///
-/// A ray at step 0.5 voxel takes about two samples per cell, and a ray along `z` shares four
-/// taps with the previous cell when it enters the next one; reusing the lanes saves most of
-/// the byte-to-float conversions (for `StraightU8`, 32 per sample) and loads, with the same
-/// arithmetic on the same values, so results are bit-identical. The cache is only valid for
-/// one volume and mode: the ray marchers make a new one for every ray.
-#[derive(Debug, Clone, Copy)]
-pub struct TapCache(FaceCache<Face>);
-
-impl TapCache {
-    /// An empty cache.
-    pub const fn new() -> Self {
-        Self(FaceCache::new(Face {
-            u: [[0.0; 4]; 4],
-            k: [0.0; 4],
-        }))
-    }
-}
-
-impl Default for TapCache {
-    fn default() -> Self {
-        Self::new()
-    }
 }
 
 /// Splits a coordinate into `⌊x⌋` and the fraction `x − ⌊x⌋`.
@@ -137,21 +94,6 @@ pub trait TrilinearOrder: sealed::Sealed + Copy + Default + core::fmt::Debug {
     fn interpolate_f32<V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [f32; 3]) -> Interp<f32> {
         Self::interpolate(mode, taps, f)
     }
-
-    /// [`Filter::interpolate_along`] for [`Trilinear`] in this order: bit-identical to
-    /// gathering the cell and calling [`interpolate_f32`](Self::interpolate_f32). The
-    /// default ignores the cache.
-    #[inline(always)]
-    fn interpolate_along<V: Voxel, M: Mode<V>>(
-        mode: &M,
-        vol: &Volume<'_, V>,
-        pos: [f32; 3],
-        cache: &mut TapCache,
-    ) -> Interp<f32> {
-        let _ = cache;
-        let (taps, f) = Trilinear::<Self>::gather(vol, pos);
-        Self::interpolate_f32(mode, &taps, f)
-    }
 }
 
 /// A binary tree of 7 lerps per interpolated channel.
@@ -180,30 +122,6 @@ impl TrilinearOrder for WeightedSum {
     #[inline(always)]
     fn interpolate_f32<V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [f32; 3]) -> Interp<f32> {
         mode.weighted8_f32(taps, &trilinear_weights(f))
-    }
-
-    #[inline(always)]
-    fn interpolate_along<V: Voxel, M: Mode<V>>(
-        mode: &M,
-        vol: &Volume<'_, V>,
-        pos: [f32; 3],
-        cache: &mut TapCache,
-    ) -> Interp<f32> {
-        let [nx, ny, nz] = vol.dims();
-        let [x, y, z] = pos;
-        // The interior test and `⌊x⌋` of `Trilinear::gather`.
-        let inside = |x: f32, n: usize| x.to_bits() < ((n - 1) as f32).to_bits();
-        if inside(x, nx) && inside(y, ny) && inside(z, nz) {
-            let (xi, yi, zi) = (x as i32, y as i32, z as i32);
-            let f = [x - xi as f32, y - yi as f32, z - zi as f32];
-            // In range: the cell is interior, so `base + nx·ny + nx + 1 < nx·ny·nz`.
-            let base = xi as usize + nx * (yi as usize + ny * zi as usize);
-            if let Some((lo, hi)) = cache.0.cell(vol, base, |t| Face::new(mode, t)) {
-                return combine_faces(lo, hi, &trilinear_weights(f));
-            }
-        }
-        let (taps, f) = Trilinear::<Self>::gather_clamped(vol, pos);
-        mode.weighted8_f32(&taps, &trilinear_weights(f))
     }
 }
 
@@ -331,16 +249,6 @@ impl<O: TrilinearOrder> Filter for Trilinear<O> {
     ) -> Interp<f32> {
         let (taps, f) = Self::gather(vol, pos);
         O::interpolate_f32(mode, &taps, f)
-    }
-
-    #[inline(always)]
-    fn interpolate_along<V: Voxel, M: Mode<V>>(
-        mode: &M,
-        vol: &Volume<'_, V>,
-        pos: [f32; 3],
-        cache: &mut TapCache,
-    ) -> Interp<f32> {
-        O::interpolate_along(mode, vol, pos, cache)
     }
 }
 

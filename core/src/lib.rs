@@ -33,7 +33,6 @@
 #![no_std]
 #![doc(test(attr(deny(warnings))))]
 
-mod cell_cache;
 pub mod classify;
 pub mod composite;
 pub mod downsample;
@@ -54,7 +53,7 @@ pub mod voxel;
 
 pub use composite::{BackToFront, FrontToBack, Never, Threshold};
 pub use error::Error;
-pub use filter::{Filter, Nearest, TapCache, Tree, Trilinear, TriquadraticBSpline, WeightedSum};
+pub use filter::{Filter, Nearest, Tree, Trilinear, TriquadraticBSpline, WeightedSum};
 pub use mode::{ExtinctionWeighted, Mode, OpacityWeighted, PostClassified, Preweighted, Separate};
 pub use num::Num;
 pub use ray::{Camera, Orthographic, Perspective, Ray};

@@ -19,7 +19,7 @@ use core::marker::PhantomData;
 
 use crate::composite::{back_to_front, front_to_back, over, Order, Termination};
 use crate::error::Error;
-use crate::filter::{Filter, TapCache};
+use crate::filter::Filter;
 use crate::mode::Mode;
 use crate::opacity::{Corrected, Correction, Uncorrected};
 use crate::ray::{Camera, Ray};
@@ -245,13 +245,6 @@ where
         corr.apply(self.mode.finish(i, self.step.d))
     }
 
-    /// [`sample_with`](Self::sample_with) for the next sample of a ray (bit-identical).
-    #[inline(always)]
-    fn sample_along<C: Correction>(&self, pos: [f32; 3], corr: &C, cache: &mut TapCache) -> Sample {
-        let i = F::interpolate_along(&self.mode, &self.volume, pos, cache);
-        corr.apply(self.mode.finish(i, self.step.d))
-    }
-
     /// Integrates one ray and composites it over the background.
     #[inline]
     pub fn cast(&self, ray: &Ray) -> Sample {
@@ -282,15 +275,11 @@ where
         ((k0 + phase) * d, n)
     }
 
-    // Not inlined: one ray's loop is compiled once per pipeline type, the same wherever
-    // `cast` is called from (inlined into callers' loops its speed varied by up to 1.5×
-    // with the surrounding code); the call costs nothing next to a ray's samples.
-    #[inline(never)]
+    #[inline(always)]
     fn march<C: Correction>(&self, ray: &Ray, corr: &C) -> (Sample, u32) {
         let (t_first, n) = self.samples(ray);
         let d = self.step.d;
         let mut acc = Sample::TRANSPARENT;
-        let mut cache = TapCache::new();
         if O::FRONT_TO_BACK {
             let term = self.order.termination();
             for j in 0..n {
@@ -300,7 +289,7 @@ where
                 if self.skip.empty(p) {
                     continue;
                 }
-                let s = self.sample_along(p, corr, &mut cache);
+                let s = self.sample_with(p, corr);
                 acc = front_to_back(acc, s);
                 if term.done(acc.a) {
                     return (acc, j + 1);
@@ -312,7 +301,7 @@ where
                 if self.skip.empty(p) {
                     continue;
                 }
-                let s = self.sample_along(p, corr, &mut cache);
+                let s = self.sample_with(p, corr);
                 acc = back_to_front(acc, s);
             }
         }

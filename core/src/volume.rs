@@ -156,20 +156,6 @@ impl<'a, V: Voxel> Volume<'a, V> {
         Some([v0, v1, v2, v3, v4, v5, v6, v7])
     }
 
-    /// The 4 voxels `i`, `i + 1`, `i + nx`, `i + nx + 1` of linear index `i = x + nx·(y + ny·z)`
-    /// (a cell's face of constant `z`, in tap order), or `None` unless they all lie in the
-    /// slice. Used by the tap cache for a ray moving one cell along `z`, with `i` from an
-    /// interior cell, where it is always `Some`.
-    #[inline(always)]
-    pub(crate) fn face_at(&self, i: usize) -> Option<[V; 4]> {
-        let nx = self.dims[0];
-        let rows = self.data.get(i..)?;
-        let (row0, row1) = rows.split_at_checked(nx)?;
-        let [v0, v1] = *row0.first_chunk::<2>()?;
-        let [v2, v3] = *row1.first_chunk::<2>()?;
-        Some([v0, v1, v2, v3])
-    }
-
     /// Clamps a signed voxel coordinate into the grid.
     #[inline(always)]
     pub fn clamp_index(&self, i: [isize; 3]) -> [usize; 3] {

@@ -4,9 +4,6 @@
 //! * [`Trilinear::gather`] (interior cells without clamps) against
 //!   [`Trilinear::gather_clamped`] (`floorf` and a clamp per tap);
 //! * [`Mode::weighted8_f32`] (four lanes per tap) against [`Mode::weighted`] in `f32`;
-//! * [`Filter::interpolate_along`] with its per-ray [`TapCache`] against
-//!   [`Filter::interpolate`], for every mode, along position sequences that stay in a cell,
-//!   move one cell up or down in `z`, jump, and leave the grid;
 //! * whole rays of [`RayMarcher`] against a plain marcher written here from the public
 //!   kernels (clamped gather, generic weighted sum, `finish`, correction, compositing);
 //! * the integer sampler's interior path and truncating quantization against clamped taps
@@ -17,14 +14,12 @@
 use volsample::composite::{back_to_front, front_to_back, over, Order};
 use volsample::filter::trilinear_weights;
 use volsample::fixed_point::{IntMode, IntPos, IntSampler, IntWeights};
-use volsample::mode::{ExtinctionWeightedU8, PostClassified, TauTable};
 use volsample::opacity::correct;
-use volsample::transfer::{ControlPoint, TransferFunction};
 use volsample::voxel::Voxel;
 use volsample::{
-    AssociatedU8, BackToFront, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack, Mode,
+    AssociatedU8, BackToFront, ExtinctionF32, ExtinctionWeighted, FrontToBack, Mode,
     OpacityWeighted, Preweighted, Ray, RayMarcher, Sample, Separate, Step, StraightF32, StraightU8,
-    TapCache, Trilinear, Volume,
+    Trilinear, Volume,
 };
 
 /// xorshift64*: deterministic, seedable.
@@ -172,157 +167,6 @@ fn lane_kernels_are_bit_identical_to_the_generic_weighted_sums() {
     check_weighted8(&ExtinctionWeighted, &mut rng, |r: &mut Rng| {
         ExtinctionF32::from_straight(sf(r), 1.0)
     });
-}
-
-/// How the positions of [`check_tap_cache`] moved between samples, by interior cell.
-#[derive(Debug, Default)]
-struct Moves {
-    same: usize,
-    up: usize,
-    down: usize,
-    other: usize,
-    outside: usize,
-}
-
-/// The linear index of the interior cell holding `p`, if any (as the tap cache keys it).
-fn interior_cell(p: [f32; 3], dims: [usize; 3]) -> Option<usize> {
-    let inside = p
-        .iter()
-        .zip(dims)
-        .all(|(&x, n)| x.to_bits() < ((n - 1) as f32).to_bits());
-    inside.then(|| {
-        let [x, y, z] = p.map(|x| x as usize);
-        x + dims[0] * (y + dims[1] * z)
-    })
-}
-
-/// `Trilinear::interpolate_along` with one cache over a sequence of positions against
-/// `Trilinear::interpolate` at each: bit-identical. The positions walk mostly in `±z` by
-/// steps below one voxel (staying in a cell, or moving one cell up or down), sometimes
-/// sideways, sometimes jump anywhere or off the grid (odd coordinates included).
-fn check_tap_cache<V: Voxel + std::fmt::Debug, M: Mode<V>>(
-    mode: &M,
-    rng: &mut Rng,
-    tap: impl Fn(&mut Rng) -> V,
-    moves: &mut Moves,
-) {
-    for _ in 0..cases() / 8 {
-        let dims = [
-            2 + rng.below(4) as usize,
-            2 + rng.below(4) as usize,
-            2 + rng.below(6) as usize,
-        ];
-        let data: Vec<V> = (0..dims.iter().product()).map(|_| tap(rng)).collect();
-        let vol = Volume::new(&data, dims).unwrap();
-        let mut cache = TapCache::new();
-        let mut p = dims.map(|n| rng.unit() * (n - 1) as f32);
-        let mut last = None;
-        for _ in 0..64 {
-            p = match rng.below(10) {
-                0 => dims.map(|n| rng.coord(n)),
-                1 => dims.map(|n| rng.unit() * (n - 1) as f32),
-                2 => [p[0] + rng.unit() - 0.5, p[1] + rng.unit() - 0.5, p[2]],
-                _ => {
-                    let dz = (rng.unit() - 0.5) * 1.5;
-                    [p[0], p[1], (p[2] + dz).clamp(0.0, (dims[2] - 1) as f32)]
-                }
-            };
-            let fast =
-                Trilinear::<volsample::WeightedSum>::interpolate_along(mode, &vol, p, &mut cache);
-            let plain = Trilinear::<volsample::WeightedSum>::interpolate(mode, &vol, p);
-            let ok = same_f32(fast.a, plain.a)
-                && fast
-                    .c
-                    .iter()
-                    .zip(plain.c.iter())
-                    .all(|(a, b)| same_f32(*a, *b));
-            assert!(ok, "{mode:?} {dims:?} at {p:?}: {fast:?} vs {plain:?}");
-            let cell = interior_cell(p, dims);
-            let plane = dims[0] * dims[1];
-            match (last, cell) {
-                (_, None) => moves.outside += 1,
-                (Some(l), Some(c)) if c == l => moves.same += 1,
-                (Some(l), Some(c)) if c == l + plane => moves.up += 1,
-                (Some(l), Some(c)) if c + plane == l => moves.down += 1,
-                _ => moves.other += 1,
-            }
-            if cell.is_some() {
-                last = cell;
-            }
-        }
-    }
-}
-
-#[test]
-fn tap_cache_is_bit_identical_for_every_mode() {
-    let mut rng = Rng(0x7A9C_AC8E_0000_0009);
-    let mut moves = Moves::default();
-    let straight = |r: &mut Rng| match r.below(4) {
-        0 => StraightU8([r.byte(), r.byte(), r.byte(), 255]),
-        1 => StraightU8([r.byte(), r.byte(), r.byte(), 0]),
-        _ => StraightU8([r.byte(), r.byte(), r.byte(), r.byte()]),
-    };
-    check_tap_cache(&OpacityWeighted, &mut rng, straight, &mut moves);
-    check_tap_cache(&Separate, &mut rng, straight, &mut moves);
-    let sf = |r: &mut Rng| StraightF32 {
-        c: [r.unit(), r.unit(), r.unit()],
-        a: if r.below(4) == 0 { 1.0 } else { r.unit() },
-    };
-    check_tap_cache(&OpacityWeighted, &mut rng, sf, &mut moves);
-    check_tap_cache(
-        &Preweighted,
-        &mut rng,
-        |r: &mut Rng| {
-            let a = r.byte();
-            let c = |r: &mut Rng| (u16::from(r.byte()) * u16::from(a) / 255) as u8;
-            AssociatedU8([c(r), c(r), c(r), a])
-        },
-        &mut moves,
-    );
-    check_tap_cache(
-        &ExtinctionWeighted,
-        &mut rng,
-        |r: &mut Rng| ExtinctionF32::from_straight(sf(r), 0.5),
-        &mut moves,
-    );
-    let table = TauTable::new(0.5).unwrap();
-    check_tap_cache(
-        &ExtinctionWeightedU8::new(&table),
-        &mut rng,
-        straight,
-        &mut moves,
-    );
-    let tf = TransferFunction::<3>::new(&[
-        ControlPoint {
-            s: 0.0,
-            c: [0.0, 0.0, 0.0],
-            a: 0.0,
-        },
-        ControlPoint {
-            s: 128.0,
-            c: [1.0, 0.5, 0.0],
-            a: 0.25,
-        },
-        ControlPoint {
-            s: 255.0,
-            c: [1.0, 1.0, 1.0],
-            a: 1.0,
-        },
-    ])
-    .unwrap();
-    check_tap_cache(
-        &PostClassified::new(&tf),
-        &mut rng,
-        |r: &mut Rng| r.byte(),
-        &mut moves,
-    );
-    // Every way the cache can be reached, often.
-    eprintln!("tap cache: {moves:?}");
-    let least = [moves.same, moves.up, moves.down, moves.other, moves.outside];
-    assert!(
-        least.iter().all(|&k| k >= cases() / 4),
-        "too few moves of some kind exercised: {moves:?}"
-    );
 }
 
 /// A plain marcher from the public kernels: clamped gather, the generic weighted sum, the

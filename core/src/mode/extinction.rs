@@ -1,6 +1,6 @@
 //! `ExtinctionWeighted`: extinction-based sampling (Kraus, Bürger 2008, eqs. 18–23).
 
-use super::{linear_tree, linear_weighted, sealed, Mode, TapLanes};
+use super::{linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
 use crate::num::Num;
 use crate::opacity::phi_with;
 use crate::sample::{Interp, Sample};
@@ -32,9 +32,12 @@ impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
     }
 
     #[inline(always)]
-    fn lanes(&self, tap: V) -> TapLanes {
-        let ([r, g, b], a) = tap.extinction::<f32>();
-        TapLanes::linear([r, g, b, a])
+    fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
+        let u = taps.map(|v| {
+            let ([r, g, b], a) = v.extinction::<f32>();
+            [r, g, b, a]
+        });
+        linear_weighted8_f32(&u, w)
     }
 
     #[inline(always)]

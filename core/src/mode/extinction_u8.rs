@@ -1,6 +1,6 @@
 //! `ExtinctionWeightedU8`: extinction-based sampling read straight from 8-bit straight RGBA.
 
-use super::{integrate_step, linear_tree, linear_weighted, sealed, Mode, TapLanes};
+use super::{integrate_step, linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
 use crate::error::Error;
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
@@ -139,9 +139,12 @@ impl Mode<StraightU8> for ExtinctionWeightedU8<'_> {
     }
 
     #[inline(always)]
-    fn lanes(&self, tap: StraightU8) -> TapLanes {
-        let e = self.table.extinction(tap);
-        TapLanes::linear([e.c_tau[0], e.c_tau[1], e.c_tau[2], e.tau])
+    fn weighted8_f32(&self, taps: &[StraightU8; 8], w: &[f32; 8]) -> Interp<f32> {
+        let u = taps.map(|v| {
+            let e = self.table.extinction(v);
+            [e.c_tau[0], e.c_tau[1], e.c_tau[2], e.tau]
+        });
+        linear_weighted8_f32(&u, w)
     }
 
     #[inline(always)]

@@ -49,23 +49,14 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     /// Interpolates `K` taps as a sum of weighted products (weights `w`, summing to 1).
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T>;
 
-    /// What one tap contributes to [`weighted8_f32`](Self::weighted8_f32): everything about
-    /// the tap that does not depend on the sample position. The float ray marcher keeps the
-    /// lanes of the taps a ray has already read ([`TapCache`](crate::TapCache)), so each voxel
-    /// is converted about once per cell instead of once per sample.
-    fn lanes(&self, tap: V) -> TapLanes;
-
     /// [`weighted`](Self::weighted) in `f32` for the 8 taps of a trilinear cell: the same
-    /// operations in the same order, so bit-identical, computed from the taps'
-    /// [`lanes`](Self::lanes) (four lanes per tap, the shape a SIMD kernel needs).
+    /// operations in the same order, so bit-identical, written over four lanes
+    /// `(c₀, c₁, c₂, a)` per tap, the shape a SIMD kernel needs (the float ray marcher's hot
+    /// path; on baseline x86-64 the compiler still emits scalar code for it). The default is
+    /// `weighted` itself.
     #[inline(always)]
     fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
-        let [t0, t1, t2, t3, t4, t5, t6, t7] = *taps;
-        combine_faces(
-            &Face::new(self, [t0, t1, t2, t3]),
-            &Face::new(self, [t4, t5, t6, t7]),
-            w,
-        )
+        self.weighted(taps, w)
     }
 
     /// Interpolates the 8 taps of a trilinear cell as a binary tree of lerps with fractions
@@ -120,72 +111,10 @@ pub(crate) fn dot_lanes8(w: &[f32; 8], u: &[[f32; 4]; 8]) -> [f32; 4] {
     acc
 }
 
-/// One tap's part in the weighted sum `Σ (w_i·k_i)·u_i` of [`Mode::weighted8_f32`]: four lanes `u`
-/// and a factor `k` on its weight.
-///
-/// For [`OpacityWeighted`] `u = (C_r, C_g, C_b, 1)` and `k = α`, so the sum is
-/// `(Σ ω C, Σ ω)` with `ω = w·α`; for the modes that interpolate their channels linearly
-/// `u` holds the channels and `k = 1` (`w·1 = w` exactly).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct TapLanes {
-    /// The four lanes `(c₀, c₁, c₂, a)` of [`Interp`].
-    pub u: [f32; 4],
-    /// The factor on the tap's weight.
-    pub k: f32,
-}
-
-impl TapLanes {
-    /// Lanes weighted by the tap's weight alone (`k = 1`).
-    #[inline(always)]
-    pub const fn linear(u: [f32; 4]) -> Self {
-        Self { u, k: 1.0 }
-    }
-}
-
-/// The [`TapLanes`] of 4 taps: one face of constant `z` of a trilinear cell, in tap order.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub(crate) struct Face {
-    pub(crate) u: [[f32; 4]; 4],
-    pub(crate) k: [f32; 4],
-}
-
-impl Face {
-    /// The lanes of 4 taps.
-    #[inline(always)]
-    pub(crate) fn new<V: Voxel, M: Mode<V> + ?Sized>(mode: &M, taps: [V; 4]) -> Self {
-        let l = taps.map(|v| mode.lanes(v));
-        Self {
-            u: l.map(|l| l.u),
-            k: l.map(|l| l.k),
-        }
-    }
-}
-
-/// `Σ (w_i·k_i)·u_i` over the lanes of the 8 taps of a cell (taps 0–3 in `lo`, 4–7 in `hi`),
-/// summed from the last tap down like [`dot`]: lane `j` is bit-identical to
-/// `dot(ω, u, |u| u[j])` with `ω_i = w_i·k_i`. The trilinear kernel of every mode in `f32`.
-///
-/// Not inlined: on its own the compiler keeps each tap's four lanes in one vector register
-/// (x86-64: 8 multiplies and 7 adds of 4 lanes); inlined into a ray loop it fell back to
-/// scalar code, 1.4× the instructions per sample.
-#[inline(never)]
-pub(crate) fn combine_faces(lo: &Face, hi: &Face, w: &[f32; 8]) -> Interp<f32> {
-    let [w0, w1, w2, w3, w4, w5, w6, w7] = *w;
-    let [k0, k1, k2, k3] = lo.k;
-    let [k4, k5, k6, k7] = hi.k;
-    let omega = [
-        w0 * k0,
-        w1 * k1,
-        w2 * k2,
-        w3 * k3,
-        w4 * k4,
-        w5 * k5,
-        w6 * k6,
-        w7 * k7,
-    ];
-    let [u0, u1, u2, u3] = lo.u;
-    let [u4, u5, u6, u7] = hi.u;
-    let [c0, c1, c2, a] = dot_lanes8(&omega, &[u0, u1, u2, u3, u4, u5, u6, u7]);
+/// [`linear_weighted`] in `f32` over lanes `(c₀, c₁, c₂, a)`: bit-identical.
+#[inline(always)]
+pub(crate) fn linear_weighted8_f32(u: &[[f32; 4]; 8], w: &[f32; 8]) -> Interp<f32> {
+    let [c0, c1, c2, a] = dot_lanes8(w, u);
     Interp { c: [c0, c1, c2], a }
 }
 

@@ -1,6 +1,6 @@
 //! `OpacityWeighted`: opacity-weighted color interpolation (Wittenbrink, Malzbender, Goss 1998).
 
-use super::{dot, lerp8, sealed, sum, Mode, TapLanes};
+use super::{dot, dot_lanes8, lerp8, sealed, sum, Mode};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::StraightVoxel;
@@ -47,14 +47,18 @@ impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
     }
 
     #[inline(always)]
-    fn lanes(&self, tap: V) -> TapLanes {
+    fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
         // Lanes (C_r, C_g, C_b, 1) weighted by ω_i = w_i·α_i: the colors are `dot(ω, C)` and
         // the last lane is `Σ ω_i` in the same order (ω·1 = ω exactly), as in `weighted`.
-        let [r, g, b, a] = tap.straight4();
-        TapLanes {
-            u: [r, g, b, 1.0],
-            k: a,
+        let mut omega = *w;
+        let mut u = [[0.0f32; 4]; 8];
+        for ((o, l), v) in omega.iter_mut().zip(u.iter_mut()).zip(taps.iter()) {
+            let [r, g, b, a] = v.straight4();
+            *o *= a;
+            *l = [r, g, b, 1.0];
         }
+        let [c0, c1, c2, a] = dot_lanes8(&omega, &u);
+        Interp { c: [c0, c1, c2], a }
     }
 
     #[inline(always)]

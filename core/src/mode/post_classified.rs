@@ -1,6 +1,6 @@
 //! `PostClassified`: interpolate the scalar, then classify.
 
-use super::{dot, lerp8, sealed, Mode, TapLanes};
+use super::{dot, lerp8, sealed, Mode};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::transfer::TransferFunction;
@@ -40,12 +40,6 @@ impl<V: ScalarVoxel, const N: usize> Mode<V> for PostClassified<'_, N> {
             c: [T::ZERO; 3],
             a: dot(w, taps, |v| v.scalar::<T>()),
         }
-    }
-
-    #[inline(always)]
-    fn lanes(&self, tap: V) -> TapLanes {
-        // The scalar in the `a` lane; the color lanes sum zeros to +0, as `weighted` sets.
-        TapLanes::linear([0.0, 0.0, 0.0, tap.scalar::<f32>()])
     }
 
     #[inline(always)]

@@ -1,6 +1,6 @@
 //! `Preweighted`: interpolation of stored associated colors (Drebin 1988).
 
-use super::{linear_tree, linear_weighted, sealed, Mode, TapLanes};
+use super::{linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::AssociatedVoxel;
@@ -28,9 +28,12 @@ impl<V: AssociatedVoxel> Mode<V> for Preweighted {
     }
 
     #[inline(always)]
-    fn lanes(&self, tap: V) -> TapLanes {
-        let ([r, g, b], a) = tap.associated::<f32>();
-        TapLanes::linear([r, g, b, a])
+    fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
+        let u = taps.map(|v| {
+            let ([r, g, b], a) = v.associated::<f32>();
+            [r, g, b, a]
+        });
+        linear_weighted8_f32(&u, w)
     }
 
     #[inline(always)]

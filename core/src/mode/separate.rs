@@ -1,6 +1,6 @@
 //! `Separate`: color and opacity interpolated independently (Levoy 1988/1990).
 
-use super::{linear_tree, linear_weighted, sealed, Mode, TapLanes};
+use super::{linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
 use crate::num::Num;
 use crate::sample::{clamp01, Interp, Sample};
 use crate::voxel::StraightVoxel;
@@ -29,8 +29,8 @@ impl<V: StraightVoxel> Mode<V> for Separate {
     }
 
     #[inline(always)]
-    fn lanes(&self, tap: V) -> TapLanes {
-        TapLanes::linear(tap.straight4())
+    fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
+        linear_weighted8_f32(&taps.map(|v| v.straight4()), w)
     }
 
     #[inline(always)]
