@@ -171,23 +171,21 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
     // (the 16-byte extinction volume streams 256 MiB through the caches) ran up to 1.3×
     // slower, so every pass takes every place in the order equally often.
     let mut per = vec![Vec::new(); names.len()];
-    let mut rounds_done = 0;
-    while rounds_done < rounds {
+    for round in 0..rounds {
         let mut t = [0.0f64; 6];
         for k in 0..passes.len() {
-            let i = (rounds_done + k) % passes.len();
+            let i = (round + k) % passes.len();
             t[i] = time(passes[i]);
         }
         if std::env::var_os("VOLSAMPLE_BENCH_ROUNDS").is_some() {
             println!(
-                "  round {rounds_done:2}: {:?}",
+                "  round {round:2}: {:?}",
                 t.map(|x| (x * 1e9 / n as f64 * 10.0).round() / 10.0)
             );
         }
         for (p, x) in per.iter_mut().zip(t) {
             p.push(x);
         }
-        rounds_done += 1;
     }
     let median = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
@@ -207,7 +205,7 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
 
 /// The sum of all four channels of a result. Every benchmark consumes the whole sample: a
 /// loop that used only `a` (or `a` and one color) let the compiler drop the dead color
-/// arithmetic, which made the kernels look up to 1.6× faster than they are.
+/// arithmetic, which made the kernels look 1.6–1.8× faster than they are.
 fn all_channels(p: Sample) -> f32 {
     p.a + p.c[0] + p.c[1] + p.c[2]
 }
