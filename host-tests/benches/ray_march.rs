@@ -167,9 +167,10 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         &|| rays.iter().map(|r| all_channels(em8.cast(r))).sum(),
         &|| rays.iter().map(|r| all_channels(skip.cast(r))).sum(),
     ];
-    // Round `k` starts with pass `k mod 6`: whichever pass runs first after the others
-    // (the 16-byte extinction volume streams 256 MiB through the caches) ran up to 1.3×
-    // slower, so every pass takes every place in the order equally often.
+    // Round `k` starts with pass `k mod 6`, so every pass takes every place in the order
+    // equally often: with a fixed order a pass's time depended on its place (one build put
+    // `Separate` at 1.29–1.37× the `OpacityWeighted` time in two fixed orders, 0.98–1.05×
+    // rotated).
     let mut per = vec![Vec::new(); names.len()];
     for round in 0..rounds {
         let mut t = [0.0f64; 6];
