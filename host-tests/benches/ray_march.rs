@@ -168,9 +168,8 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         &|| rays.iter().map(|r| all_channels(skip.cast(r))).sum(),
     ];
     // Round `k` starts with pass `k mod 6`, so every pass takes every place in the order
-    // equally often: with a fixed order a pass's time depended on its place (one build put
-    // `Separate` at 1.29–1.37× the `OpacityWeighted` time in two fixed orders, 0.98–1.05×
-    // rotated).
+    // equally often and an effect of the place (of the passes run just before) is spread
+    // over all of them instead of falling on one.
     let mut per = vec![Vec::new(); names.len()];
     for round in 0..rounds {
         let mut t = [0.0f64; 6];
