@@ -147,35 +147,40 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         t.elapsed().as_secs_f64()
     };
     let rounds = if quick() { 6 } else { 12 };
-    let names = [
-        "OpacityWeighted f32",
-        "Separate f32",
-        "OpacityWeighted int F=8",
-        "ExtinctionWeighted f32 (exact exp), 16-byte voxels",
-        "ExtinctionWeightedU8 (exact exp), RGBA8 + TauTable",
-        "OpacityWeighted f32 + skipping grid (nothing empty)",
-    ];
-    let passes: [&dyn Fn() -> f32; 6] = [
-        &|| rays.iter().map(|r| all_channels(ow.cast(r))).sum(),
-        &|| rays.iter().map(|r| all_channels(sep.cast(r))).sum(),
-        &|| {
+    let passes: [(&str, &dyn Fn() -> f32); 6] = [
+        ("OpacityWeighted f32", &|| {
+            rays.iter().map(|r| all_channels(ow.cast(r))).sum()
+        }),
+        ("Separate f32", &|| {
+            rays.iter().map(|r| all_channels(sep.cast(r))).sum()
+        }),
+        ("OpacityWeighted int F=8", &|| {
             rays.iter()
                 .map(|r| all_channels_int(int_ow.cast(r)) as f32)
                 .sum()
-        },
-        &|| rays.iter().map(|r| all_channels(em.cast(r))).sum(),
-        &|| rays.iter().map(|r| all_channels(em8.cast(r))).sum(),
-        &|| rays.iter().map(|r| all_channels(skip.cast(r))).sum(),
+        }),
+        (
+            "ExtinctionWeighted f32 (exact exp), 16-byte voxels",
+            &|| rays.iter().map(|r| all_channels(em.cast(r))).sum(),
+        ),
+        (
+            "ExtinctionWeightedU8 (exact exp), RGBA8 + TauTable",
+            &|| rays.iter().map(|r| all_channels(em8.cast(r))).sum(),
+        ),
+        (
+            "OpacityWeighted f32 + skipping grid (nothing empty)",
+            &|| rays.iter().map(|r| all_channels(skip.cast(r))).sum(),
+        ),
     ];
     // Round `k` starts with pass `k mod 6`, so every pass takes every place in the order
     // equally often and an effect of the place (of the passes run just before) is spread
     // over all of them instead of falling on one.
-    let mut per = vec![Vec::new(); names.len()];
+    let mut per = vec![Vec::new(); passes.len()];
     for round in 0..rounds {
         let mut t = [0.0f64; 6];
         for k in 0..passes.len() {
             let i = (round + k) % passes.len();
-            t[i] = time(passes[i]);
+            t[i] = time(passes[i].1);
         }
         if std::env::var_os("VOLSAMPLE_BENCH_ROUNDS").is_some() {
             println!(
@@ -193,7 +198,7 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
     };
     let base = per[0].clone();
     println!("ray_march/interleaved: {rounds} rounds, 256³, {n} samples per pass");
-    for (name, p) in names.iter().zip(&per) {
+    for ((name, _), p) in passes.iter().zip(&per) {
         let ratios: Vec<f64> = p.iter().zip(&base).map(|(a, b)| a / b).collect();
         println!(
             "  {name:52} {:7.2} ns/sample (median)   / OW f32: {:.3}",
