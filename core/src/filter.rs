@@ -13,7 +13,8 @@
 //! 1 minus the others, in the order the kernels sum them), so constant data, in particular an
 //! opaque region, is reproduced exactly.
 
-use crate::mode::Mode;
+use crate::lanes::{pack, unpack, F32x4};
+use crate::mode::{lane_taps, pack_interp, tap_columns, Mode};
 use crate::num::Num;
 use crate::sample::Interp;
 use crate::volume::Volume;
@@ -33,12 +34,31 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
     /// Number of voxels read per sample.
     const TAPS: usize;
 
+    /// Whether [`RayMarcher::cast4`](crate::RayMarcher::cast4) marches four rays in lanes
+    /// with this filter (`true`) or casts them one by one (`false`; the results are the same
+    /// bit for bit either way). One tap per sample leaves [`Nearest`] too little arithmetic
+    /// to share among the lanes: in packets it ran 1.2–1.9× slower in `volsample report`.
+    const PACKETS: bool = true;
+
     /// Reconstructs the quantities `mode` interpolates at `pos` (voxel units).
     fn interpolate<V: Voxel, M: Mode<V>>(
         mode: &M,
         vol: &Volume<'_, V>,
         pos: [f32; 3],
     ) -> Interp<f32>;
+
+    /// [`interpolate`](Self::interpolate) at four positions, lane `l` at `pos[l]` and
+    /// bit-identical to `interpolate` there (the packet kernels of
+    /// [`RayMarcher::cast4`](crate::RayMarcher::cast4)). The default runs `interpolate` per
+    /// lane; [`Trilinear`] gathers per lane and computes weights and sums in lanes.
+    #[inline(always)]
+    fn interpolate_x4<V: Voxel, M: Mode<V>>(
+        mode: &M,
+        vol: &Volume<'_, V>,
+        pos: [[f32; 3]; 4],
+    ) -> Interp<F32x4> {
+        pack_interp(pos.map(|p| Self::interpolate(mode, vol, p)))
+    }
 }
 
 /// Splits a coordinate into `⌊x⌋` and the fraction `x − ⌊x⌋`.
@@ -69,6 +89,7 @@ pub struct Nearest;
 
 impl Filter for Nearest {
     const TAPS: usize = 1;
+    const PACKETS: bool = false;
 
     #[inline(always)]
     fn interpolate<V: Voxel, M: Mode<V>>(
@@ -93,6 +114,23 @@ pub trait TrilinearOrder: sealed::Sealed + Copy + Default + core::fmt::Debug {
     #[inline(always)]
     fn interpolate_f32<V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [f32; 3]) -> Interp<f32> {
         Self::interpolate(mode, taps, f)
+    }
+
+    /// [`interpolate_f32`](Self::interpolate_f32) for four cells in lanes (tap `k` of cell
+    /// `l` is `taps[k][l]`, its fractions lane `l` of `f`), lane by lane bit-identical. The
+    /// default runs `interpolate_f32` per lane.
+    #[inline(always)]
+    fn interpolate_x4<V: Voxel, M: Mode<V>>(
+        mode: &M,
+        taps: &[[V; 4]; 8],
+        f: [F32x4; 3],
+    ) -> Interp<F32x4> {
+        let cells = lane_taps(taps);
+        let mut out = [Interp::default(); 4];
+        for ((o, cell), f) in out.iter_mut().zip(cells.iter()).zip(unpack(f)) {
+            *o = Self::interpolate_f32(mode, cell, f);
+        }
+        pack_interp(out)
     }
 }
 
@@ -122,6 +160,15 @@ impl TrilinearOrder for WeightedSum {
     #[inline(always)]
     fn interpolate_f32<V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [f32; 3]) -> Interp<f32> {
         mode.weighted8_f32(taps, &trilinear_weights(f))
+    }
+
+    #[inline(always)]
+    fn interpolate_x4<V: Voxel, M: Mode<V>>(
+        mode: &M,
+        taps: &[[V; 4]; 8],
+        f: [F32x4; 3],
+    ) -> Interp<F32x4> {
+        mode.weighted8_x4(taps, &trilinear_weights(f))
     }
 }
 
@@ -249,6 +296,20 @@ impl<O: TrilinearOrder> Filter for Trilinear<O> {
     ) -> Interp<f32> {
         let (taps, f) = Self::gather(vol, pos);
         O::interpolate_f32(mode, &taps, f)
+    }
+
+    #[inline(always)]
+    fn interpolate_x4<V: Voxel, M: Mode<V>>(
+        mode: &M,
+        vol: &Volume<'_, V>,
+        pos: [[f32; 3]; 4],
+    ) -> Interp<F32x4> {
+        let [p0, p1, p2, p3] = pos;
+        let (t0, f0) = Self::gather(vol, p0);
+        let (t1, f1) = Self::gather(vol, p1);
+        let (t2, f2) = Self::gather(vol, p2);
+        let (t3, f3) = Self::gather(vol, p3);
+        O::interpolate_x4(mode, &tap_columns([t0, t1, t2, t3]), pack([f0, f1, f2, f3]))
     }
 }
 

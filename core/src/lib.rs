@@ -39,6 +39,7 @@ pub mod downsample;
 pub mod error;
 pub mod filter;
 pub mod fixed_point;
+pub mod lanes;
 pub mod mode;
 pub mod num;
 pub mod opacity;

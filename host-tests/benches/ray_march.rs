@@ -17,22 +17,28 @@
 //! Empty space: the same volume cut to a ball in air, marched with and without empty-space
 //! skipping (`volsample::skip`), and the grid's lookup cost where nothing is empty.
 //!
+//! Packets: the `_packets` rows and passes march the same rays four at a time
+//! ([`RayMarcher::cast_rays`], bit-identical per ray to `cast`), the others one at a time.
+//!
 //! Every row consumes all four channels of every pixel (a sum of `α` and `C̃`), so no
 //! arithmetic can be dropped as unused.
 //!
 //! `VOLSAMPLE_BENCH_QUICK=1` shortens the measurement (for a quick look, not for the table);
 //! `VOLSAMPLE_BENCH_ROUNDS=1` prints every interleaved round's ns/sample.
 
+use std::cell::RefCell;
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use volsample::composite::Order;
 use volsample::fixed_point::{IntRayMarcher, IntSample, IntStop};
 use volsample::mode::{ExtinctionWeightedU8, TauTable};
-use volsample::skip::Occupancy;
+use volsample::skip::{Occupancy, Skipping};
+use volsample::voxel::Voxel;
 use volsample::{
-    ExtinctionF32, ExtinctionWeighted, FrontToBack, OpacityWeighted, Ray, RayMarcher, Sample,
-    Separate, Step, StraightF32, StraightU8, Trilinear, Volume,
+    ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack, Mode, OpacityWeighted, Ray, RayMarcher,
+    Sample, Separate, Step, StraightF32, StraightU8, Trilinear, Volume,
 };
 
 /// The step, and the reference distance the opacities are defined for.
@@ -147,7 +153,8 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         t.elapsed().as_secs_f64()
     };
     let rounds = if quick() { 6 } else { 12 };
-    let passes: [(&str, &dyn Fn() -> f32); 6] = [
+    let out = RefCell::new(vec![Sample::TRANSPARENT; rays.len()]);
+    let passes: [(&str, &dyn Fn() -> f32); 10] = [
         ("OpacityWeighted f32", &|| {
             rays.iter().map(|r| all_channels(ow.cast(r))).sum()
         }),
@@ -171,13 +178,25 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
             "OpacityWeighted f32 + skipping grid (nothing empty)",
             &|| rays.iter().map(|r| all_channels(skip.cast(r))).sum(),
         ),
+        ("OpacityWeighted f32, packets (cast_rays)", &|| {
+            packets(&ow, rays, &mut out.borrow_mut())
+        }),
+        ("Separate f32, packets", &|| {
+            packets(&sep, rays, &mut out.borrow_mut())
+        }),
+        ("ExtinctionWeighted f32, packets", &|| {
+            packets(&em, rays, &mut out.borrow_mut())
+        }),
+        ("ExtinctionWeightedU8, packets", &|| {
+            packets(&em8, rays, &mut out.borrow_mut())
+        }),
     ];
-    // Round `k` starts with pass `k mod 6`, so every pass takes every place in the order
+    // Round `k` starts with pass `k mod (number of passes)`, so every pass takes every place in the order
     // equally often and an effect of the place (of the passes run just before) is spread
     // over all of them instead of falling on one.
     let mut per = vec![Vec::new(); passes.len()];
     for round in 0..rounds {
-        let mut t = [0.0f64; 6];
+        let mut t = [0.0f64; 10];
         for k in 0..passes.len() {
             let i = (round + k) % passes.len();
             t[i] = time(passes[i].1);
@@ -196,14 +215,20 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
-    let base = per[0].clone();
+    // Ratios against `OpacityWeighted` f32 one ray at a time (pass 0) and, for the packet
+    // passes, against `OpacityWeighted` f32 in packets (pass 6).
+    let ratio = |p: &[f64], base: &[f64]| median(p.iter().zip(base).map(|(a, b)| a / b).collect());
     println!("ray_march/interleaved: {rounds} rounds, 256³, {n} samples per pass");
-    for ((name, _), p) in passes.iter().zip(&per) {
-        let ratios: Vec<f64> = p.iter().zip(&base).map(|(a, b)| a / b).collect();
+    for (k, ((name, _), p)) in passes.iter().zip(&per).enumerate() {
+        let packed = if k >= 6 {
+            format!("   / OW f32 packets: {:.3}", ratio(p, &per[6]))
+        } else {
+            String::new()
+        };
         println!(
-            "  {name:52} {:7.2} ns/sample (median)   / OW f32: {:.3}",
+            "  {name:52} {:7.2} ns/sample (median)   / OW f32: {:.3}{packed}",
             median(p.clone()) * 1e9 / n as f64,
-            median(ratios)
+            ratio(p, &per[0])
         );
     }
 }
@@ -214,6 +239,17 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
 /// faster than they are.
 fn all_channels(p: Sample) -> f32 {
     p.a + p.c[0] + p.c[1] + p.c[2]
+}
+
+/// Every ray of `rays` through `m` four at a time ([`RayMarcher::cast_rays`], the packet
+/// kernels; bit-identical to `cast` per ray), into `out`: the sum of [`all_channels`].
+fn packets<V: Voxel, M: Mode<V>, F: Filter, O: Order, S: Skipping>(
+    m: &RayMarcher<'_, V, M, F, O, S>,
+    rays: &[Ray],
+    out: &mut [Sample],
+) -> f32 {
+    m.cast_rays(rays, out).unwrap();
+    out.iter().map(|p| all_channels(*p)).sum()
 }
 
 /// [`all_channels`] of an integer sample.
@@ -263,6 +299,12 @@ fn bench(c: &mut Criterion) {
             }
             black_box(s)
         })
+    });
+
+    // The same rays four at a time (the packet kernels, bit-identical per ray).
+    let mut out = vec![Sample::TRANSPARENT; rays256.len()];
+    g.bench_function("ow_f32_u8_256_packets", |b| {
+        b.iter(|| black_box(packets(&ow, &rays256, &mut out)))
     });
 
     let sep = RayMarcher::new(vol, Separate, Trilinear::new(), FrontToBack::new(), step).unwrap();
@@ -323,6 +365,9 @@ fn bench(c: &mut Criterion) {
                 }
                 black_box(s)
             })
+        });
+        g.bench_function("extinction_f32_exact_exp_256_packets", |b| {
+            b.iter(|| black_box(packets(&em, &rays256, &mut out)))
         });
     }
 

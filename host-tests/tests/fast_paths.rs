@@ -14,12 +14,15 @@
 use volsample::composite::{back_to_front, front_to_back, over, Order};
 use volsample::filter::trilinear_weights;
 use volsample::fixed_point::{IntMode, IntPos, IntSampler, IntWeights};
+use volsample::mode::{ExtinctionWeightedU8, TauTable};
 use volsample::opacity::correct;
+use volsample::skip::Skipping;
 use volsample::voxel::Voxel;
 use volsample::{
-    AssociatedU8, BackToFront, ExtinctionF32, ExtinctionWeighted, FrontToBack, Mode,
-    OpacityWeighted, Preweighted, Ray, RayMarcher, Sample, Separate, Step, StraightF32, StraightU8,
-    Trilinear, Volume,
+    AssociatedU8, BackToFront, Camera, ControlPoint, ExtinctionF32, ExtinctionWeighted, Filter,
+    FrontToBack, Mode, Nearest, OpacityWeighted, Orthographic, Perspective, PostClassified,
+    Preweighted, Ray, RayMarcher, Sample, Separate, Step, StraightF32, StraightU8, Threshold,
+    TransferFunction, Trilinear, TriquadraticBSpline, Volume,
 };
 
 /// xorshift64*: deterministic, seedable.
@@ -308,5 +311,217 @@ fn integer_interior_path_and_quantization_are_bit_identical() {
             let got = IntPos::<8>::quantize(p).ok().map(|q| q.raw());
             assert_eq!(got, expected, "quantize {p:?}");
         }
+    }
+}
+
+/// Every ray of `rays` through `m` four at a time ([`RayMarcher::cast4`], and
+/// [`RayMarcher::cast_rays`] for the tails) against one at a time; `what` names the case.
+fn check_packets<V, M, F, O, S>(m: &RayMarcher<'_, V, M, F, O, S>, rays: &[Ray], what: &str)
+where
+    V: Voxel,
+    M: Mode<V>,
+    F: Filter,
+    O: Order,
+    S: Skipping,
+{
+    for four in rays.chunks_exact(4) {
+        let four: &[Ray; 4] = four.try_into().unwrap();
+        for (ray, (got, n)) in four.iter().zip(m.cast4(four)) {
+            let (want, k) = m.cast_counted(ray);
+            assert!(
+                same_sample(&got, &want) && n == k,
+                "{what}: {ray:?}: packet {got:?} ({n} samples) vs single {want:?} ({k})"
+            );
+        }
+    }
+    // Every length, so that each tail (0 to 3 rays after the packets) is covered.
+    for len in 0..=rays.len().min(9) {
+        let mut out = vec![Sample::TRANSPARENT; len];
+        m.cast_rays(&rays[..len], &mut out).unwrap();
+        for (ray, got) in rays.iter().zip(&out) {
+            assert!(same_sample(got, &m.cast(ray)), "{what}: cast_rays {ray:?}");
+        }
+    }
+}
+
+/// The packet kernels (four rays in [`volsample::lanes::F32x4`] lanes) are bit-identical to
+/// single rays, for every mode, filter, voxel format, order and stage: opacity correction,
+/// early termination, a background, empty-space skipping, rays that miss or end early.
+#[test]
+fn packets_are_bit_identical_to_single_rays() {
+    let mut rng = Rng(0x7AC4_E75A_11CE_0004);
+    let bg = Sample {
+        c: [0.1, 0.2, 0.3],
+        a: 0.5,
+    };
+    let tf = TransferFunction::<3>::new(&[
+        ControlPoint {
+            s: 0.0,
+            c: [0.0; 3],
+            a: 0.0,
+        },
+        ControlPoint {
+            s: 0.4,
+            c: [1.0, 0.5, 0.2],
+            a: 0.3,
+        },
+        ControlPoint {
+            s: 1.0,
+            c: [1.0; 3],
+            a: 0.9,
+        },
+    ])
+    .unwrap();
+    let mut grid = vec![0u8; 4096];
+    for case in 0..cases() / 8 {
+        let dims = random_dims(&mut rng);
+        let u8s = random_u8_volume(&mut rng, dims);
+        let f32s: Vec<StraightF32> = u8s
+            .iter()
+            .map(|v| {
+                let [r, g, b, a] = v.0.map(|n| f32::from(n) / 255.0 + 1e-4);
+                StraightF32 {
+                    c: [r.min(1.0), g.min(1.0), b.min(1.0)],
+                    a: a.min(1.0),
+                }
+            })
+            .collect();
+        let assoc: Vec<AssociatedU8> = u8s
+            .iter()
+            .map(|v| {
+                let [r, g, b, a] = v.0;
+                let m = |c: u8| ((u16::from(c) * u16::from(a)) / 255) as u8;
+                AssociatedU8([m(r), m(g), m(b), a])
+            })
+            .collect();
+        let d_ref = [1.0, 0.5, 0.75][case % 3];
+        let ext: Vec<ExtinctionF32> = f32s
+            .iter()
+            .map(|&v| ExtinctionF32::from_straight(v, d_ref))
+            .collect();
+        let scalars: Vec<f32> = u8s.iter().map(|v| f32::from(v.0[0]) / 255.0).collect();
+        let step = Step::new([0.5, 0.3, 1.0, 0.75][case % 4])
+            .unwrap()
+            .with_phase(rng.unit() * 0.99)
+            .unwrap();
+        let rays: Vec<Ray> = (0..12).map(|_| random_ray(&mut rng, dims)).collect();
+        let v8 = Volume::new(&u8s, dims)
+            .unwrap()
+            .with_reference_distance(d_ref)
+            .unwrap();
+        let vf = Volume::new(&f32s, dims)
+            .unwrap()
+            .with_reference_distance(d_ref)
+            .unwrap();
+        let va = Volume::new(&assoc, dims)
+            .unwrap()
+            .with_reference_distance(d_ref)
+            .unwrap();
+        let ve = Volume::new(&ext, dims).unwrap();
+        let vs = Volume::new(&scalars, dims)
+            .unwrap()
+            .with_reference_distance(d_ref)
+            .unwrap();
+        let stop = FrontToBack(Threshold::new([1.0, 0.9, 0.5, 0.05][case % 4]).unwrap());
+        let ftb = FrontToBack::new();
+
+        macro_rules! all_filters {
+            ($vol:expr, $mode:expr, $what:expr) => {{
+                let m = RayMarcher::new($vol, $mode, Trilinear::new(), stop, step).unwrap();
+                check_packets(
+                    &m.with_background(bg).unwrap(),
+                    &rays,
+                    concat!($what, " trilinear"),
+                );
+                let m = RayMarcher::new($vol, $mode, Trilinear::tree(), ftb, step).unwrap();
+                check_packets(&m, &rays, concat!($what, " tree"));
+                let m = RayMarcher::new($vol, $mode, Nearest, stop, step).unwrap();
+                check_packets(&m, &rays, concat!($what, " nearest"));
+                let m = RayMarcher::new($vol, $mode, TriquadraticBSpline, ftb, step).unwrap();
+                check_packets(&m, &rays, concat!($what, " bspline"));
+                let m = RayMarcher::new($vol, $mode, Trilinear::new(), BackToFront, step).unwrap();
+                check_packets(&m, &rays, concat!($what, " back to front"));
+            }};
+        }
+        all_filters!(v8, OpacityWeighted, "OW u8");
+        all_filters!(vf, OpacityWeighted, "OW f32");
+        all_filters!(v8, Separate, "Separate u8");
+        all_filters!(vf, Separate, "Separate f32");
+        all_filters!(va, Preweighted, "Preweighted u8");
+        all_filters!(ve, ExtinctionWeighted, "Extinction");
+        let taus = TauTable::new(d_ref).unwrap();
+        all_filters!(v8, ExtinctionWeightedU8::new(&taus), "Extinction u8");
+        all_filters!(vs, PostClassified::new(&tf), "PostClassified");
+
+        // Empty-space skipping: lanes skip samples independently.
+        let m = RayMarcher::new(v8, OpacityWeighted, Trilinear::new(), stop, step).unwrap();
+        let skip = m.with_skipping(&mut grid, [0, 1, 2][case % 3]).unwrap();
+        check_packets(&skip, &rays, "OW u8 skipping");
+    }
+}
+
+#[test]
+fn cast_rays_rejects_a_wrong_output_length() {
+    let data = [StraightU8([1, 2, 3, 4]); 8];
+    let vol = Volume::new(&data, [2, 2, 2]).unwrap();
+    let step = Step::new(0.5).unwrap();
+    let m = RayMarcher::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap();
+    let rays = [Ray::new([0.5, 0.5, -1.0], [0.0, 0.0, 1.0]).unwrap(); 5];
+    let mut out = [Sample::TRANSPARENT; 4];
+    assert_eq!(
+        m.cast_rays(&rays, &mut out),
+        Err(volsample::Error::ImageSizeMismatch {
+            expected: 5,
+            actual: 4
+        })
+    );
+}
+
+/// `render_into` (packets of four pixels per row, the rest one by one) against `cast` per
+/// pixel, for widths that leave every remainder, both cameras and both orders.
+#[test]
+fn render_into_is_bit_identical_to_casting_each_pixel() {
+    let mut rng = Rng(0x05EE_D0F1_AA6E_5001);
+    let dims = [5, 4, 6];
+    let data = random_u8_volume(&mut rng, dims);
+    let vol = Volume::new(&data, dims).unwrap();
+    let step = Step::new(0.37).unwrap();
+    let ftb = RayMarcher::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap();
+    let btf = RayMarcher::new(vol, Separate, Trilinear::new(), BackToFront, step).unwrap();
+    let ortho = Orthographic::looking_down_z(dims).unwrap();
+    let persp = Perspective::new([2.0, 1.5, -6.0], [2.0, 1.5, 2.5], [0.0, 1.0, 0.0], 0.9).unwrap();
+    for (w, h) in [(1, 1), (3, 2), (4, 3), (5, 1), (7, 4), (9, 2)] {
+        let mut img = vec![Sample::TRANSPARENT; w * h];
+        let check = |img: &[Sample], cast: &dyn Fn(&Ray) -> Sample, cam: &dyn Camera| {
+            for j in 0..h {
+                for i in 0..w {
+                    let want = cast(&cam.ray(i, j, w, h));
+                    assert!(
+                        same_sample(&img[j * w + i], &want),
+                        "{w}×{h} pixel ({i}, {j})"
+                    );
+                }
+            }
+        };
+        ftb.render_into(&ortho, w, h, &mut img).unwrap();
+        check(&img, &|r| ftb.cast(r), &ortho);
+        ftb.render_into(&persp, w, h, &mut img).unwrap();
+        check(&img, &|r| ftb.cast(r), &persp);
+        btf.render_into(&persp, w, h, &mut img).unwrap();
+        check(&img, &|r| btf.cast(r), &persp);
     }
 }

@@ -1,6 +1,9 @@
 //! `ExtinctionWeighted`: extinction-based sampling (Kraus, Bürger 2008, eqs. 18–23).
 
-use super::{linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
+use super::{
+    linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_columns_x4, Mode,
+};
+use crate::lanes::F32x4;
 use crate::num::Num;
 use crate::opacity::phi_with;
 use crate::sample::{Interp, Sample};
@@ -48,6 +51,11 @@ impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
     #[inline(always)]
     fn finish(&self, i: Interp<f32>, d: f32) -> Sample {
         integrate_step(i.c, i.a, d)
+    }
+
+    #[inline(always)]
+    fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
+        weighted_columns_x4(taps, w, |v| v.extinction::<f32>(), false)
     }
 }
 

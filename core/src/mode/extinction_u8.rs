@@ -1,7 +1,11 @@
 //! `ExtinctionWeightedU8`: extinction-based sampling read straight from 8-bit straight RGBA.
 
-use super::{integrate_step, linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
+use super::{
+    integrate_step, linear_tree, linear_weighted, linear_weighted8_f32, sealed,
+    weighted_columns_x4, Mode,
+};
 use crate::error::Error;
+use crate::lanes::F32x4;
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::{unorm8, ExtinctionF32, StraightF32, StraightU8};
@@ -155,5 +159,10 @@ impl Mode<StraightU8> for ExtinctionWeightedU8<'_> {
     #[inline(always)]
     fn finish(&self, i: Interp<f32>, d: f32) -> Sample {
         integrate_step(i.c, i.a, d)
+    }
+
+    #[inline(always)]
+    fn weighted8_x4(&self, taps: &[[StraightU8; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
+        weighted_columns_x4(taps, w, |v| self.channels::<f32>(v), false)
     }
 }

@@ -29,6 +29,7 @@ pub use post_classified::PostClassified;
 pub use preweighted::Preweighted;
 pub use separate::Separate;
 
+use crate::lanes::{pack, unpack, F32x4};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::Voxel;
@@ -67,6 +68,150 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     /// (used by [`ExtinctionWeighted`] only; the opacity-based modes return opacities for `d′`
     /// and leave correction to the [`Correction`](crate::opacity::Correction) stage).
     fn finish(&self, i: Interp<f32>, d: f32) -> Sample;
+
+    /// [`weighted8_f32`](Self::weighted8_f32) for four cells at once (the packet kernels of
+    /// [`RayMarcher::cast4`](crate::RayMarcher::cast4)): tap `k` of cell `l` is `taps[k][l]`,
+    /// its weight lane `l` of `w[k]`. Lane `l` of the result is bit-identical to
+    /// `weighted8_f32` of cell `l`. The default runs `weighted8_f32` lane by lane; the modes
+    /// with a sum of weighted products run the same generic sums on [`F32x4`].
+    #[inline(always)]
+    fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
+        let weights = unpack(*w);
+        let cells = lane_taps(taps);
+        let mut out = [Interp::default(); 4];
+        for ((o, cell), wl) in out.iter_mut().zip(cells.iter()).zip(weights.iter()) {
+            *o = self.weighted8_f32(cell, wl);
+        }
+        pack_interp(out)
+    }
+
+    /// [`finish`](Self::finish) for four samples: lane `l` of the result (`c` the associated
+    /// color, `a` the opacity) is bit-identical to `finish` of lane `l` (up to the sign of a
+    /// zero, see [`F32x4::clamp_to`]). The default runs `finish` lane by lane.
+    #[inline(always)]
+    fn finish_x4(&self, i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
+        let lanes = unpack_interp(i).map(|x| {
+            let s = self.finish(x, d);
+            Interp { c: s.c, a: s.a }
+        });
+        pack_interp(lanes)
+    }
+}
+
+/// The four cells of a packet, per lane: `out[l][k] = taps[k][l]`.
+#[inline(always)]
+pub(crate) fn lane_taps<V: Copy>(taps: &[[V; 4]; 8]) -> [[V; 8]; 4] {
+    let [first, ..] = *taps;
+    let [v, ..] = first;
+    let mut out = [[v; 8]; 4];
+    for (k, col) in taps.iter().enumerate() {
+        for (cell, x) in out.iter_mut().zip(col) {
+            if let Some(slot) = cell.get_mut(k) {
+                *slot = *x;
+            }
+        }
+    }
+    out
+}
+
+/// `Sample::clamped` in lanes: `α` into `[0, 1]`, each `C̃` into `[0, α]` (NaN ↦ 0).
+#[inline(always)]
+pub(crate) fn clamped_x4(i: Interp<F32x4>) -> Interp<F32x4> {
+    let a = i.a.clamp_to(F32x4::ONE);
+    let [r, g, b] = i.c;
+    Interp {
+        c: [r.clamp_to(a), g.clamp_to(a), b.clamp_to(a)],
+        a,
+    }
+}
+
+/// Four cells as tap columns (the inverse of [`lane_taps`]): `out[k][l] = cells[l][k]`.
+#[inline(always)]
+pub(crate) fn tap_columns<V: Copy>(cells: [[V; 8]; 4]) -> [[V; 4]; 8] {
+    let [c0, c1, c2, c3] = cells;
+    let [v, ..] = c0;
+    let mut out = [[v; 4]; 8];
+    for ((((o, a), b), c), d) in out.iter_mut().zip(c0).zip(c1).zip(c2).zip(c3) {
+        *o = [a, b, c, d];
+    }
+    out
+}
+
+/// Four `Interp<f32>` packed into lanes.
+#[inline(always)]
+pub(crate) fn pack_interp(lanes: [Interp<f32>; 4]) -> Interp<F32x4> {
+    let [c0, c1, c2, a] = pack(lanes.map(|x| [x.c[0], x.c[1], x.c[2], x.a]));
+    Interp { c: [c0, c1, c2], a }
+}
+
+/// The inverse of [`pack_interp`].
+#[inline(always)]
+pub(crate) fn unpack_interp(i: Interp<F32x4>) -> [Interp<f32>; 4] {
+    let [c0, c1, c2] = i.c;
+    unpack([c0, c1, c2, i.a]).map(|[c0, c1, c2, a]| Interp { c: [c0, c1, c2], a })
+}
+
+/// One tap column of a packet as lanes: `f` of each lane's voxel, `(c, a)` packed.
+#[inline(always)]
+pub(crate) fn channels_x4<V: Copy>(
+    col: [V; 4],
+    f: impl Fn(V) -> ([f32; 3], f32),
+) -> ([F32x4; 3], F32x4) {
+    // Written out: `array::map` here is not always inlined, and this runs 8 times a sample.
+    let [v0, v1, v2, v3] = col;
+    let ([r0, g0, b0], a0) = f(v0);
+    let ([r1, g1, b1], a1) = f(v1);
+    let ([r2, g2, b2], a2) = f(v2);
+    let ([r3, g3, b3], a3) = f(v3);
+    (
+        [
+            F32x4::from_array([r0, r1, r2, r3]),
+            F32x4::from_array([g0, g1, g2, g3]),
+            F32x4::from_array([b0, b1, b2, b3]),
+        ],
+        F32x4::from_array([a0, a1, a2, a3]),
+    )
+}
+
+/// `Σ w_k·u_k` over the tap columns of a packet, tap by tap from the last (the order of
+/// [`dot`], so lane `l` is bit-identical to the scalar sums), with `u_k = f(column k)` as
+/// `(c, a)` lanes and the weight of tap `k` being `weight(w_k, u_k)`: `w_k` itself for the
+/// linear modes, `ω_k = w_k·α_k` for [`OpacityWeighted`], which then sums `ω` for `α`
+/// (`a_is_weight`). One column is live at a time, so the four accumulators stay in
+/// registers.
+#[inline(always)]
+pub(crate) fn weighted_columns_x4<V: Copy>(
+    taps: &[[V; 4]; 8],
+    w: &[F32x4; 8],
+    f: impl Fn(V) -> ([f32; 3], f32),
+    opacity_weighted: bool,
+) -> Interp<F32x4> {
+    let mut acc = Interp {
+        c: [F32x4::ZERO; 3],
+        a: F32x4::ZERO,
+    };
+    for (k, (col, wk)) in taps.iter().zip(w.iter()).rev().enumerate() {
+        let ([r, g, b], a) = channels_x4(*col, &f);
+        // ω = w·α (then α = Σ ω, and the colors are summed with ω), or w itself.
+        let (wt, a) = if opacity_weighted {
+            (*wk * a, F32x4::ONE)
+        } else {
+            (*wk, a)
+        };
+        let [cr, cg, cb] = acc.c;
+        acc = if k == 0 {
+            Interp {
+                c: [wt * r, wt * g, wt * b],
+                a: wt * a,
+            }
+        } else {
+            Interp {
+                c: [cr + wt * r, cg + wt * g, cb + wt * b],
+                a: acc.a + wt * a,
+            }
+        };
+    }
+    acc
 }
 
 /// `Σ w_i·x_i`, summed from the *last* tap down to tap 0 (8M 7A for 8 taps).

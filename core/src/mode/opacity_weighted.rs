@@ -1,6 +1,7 @@
 //! `OpacityWeighted`: opacity-weighted color interpolation (Wittenbrink, Malzbender, Goss 1998).
 
-use super::{dot, dot_lanes8, lerp8, sealed, sum, Mode};
+use super::{clamped_x4, dot, dot_lanes8, lerp8, sealed, sum, weighted_columns_x4, Mode};
+use crate::lanes::F32x4;
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::StraightVoxel;
@@ -21,6 +22,27 @@ use crate::voxel::StraightVoxel;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct OpacityWeighted;
 
+/// Eqs. 9–12 over straight channels `(C_i, α_i)` with weights `w_i` (`K`M for `ω`, then
+/// `K−1`A for `α` and `K`M `K−1`A per color), for any [`Num`]: `f32`, `f64`, lanes.
+#[inline(always)]
+fn opacity_weighted<T: Num, const K: usize>(ch: &[([T; 3], T); K], w: &[T; K]) -> Interp<T> {
+    // ω_i = w_i·α_i: K multiplications.
+    let mut omega = *w;
+    for (o, v) in omega.iter_mut().zip(ch.iter()) {
+        *o = *o * v.1;
+    }
+    // α = Σ ω_i: K−1 additions, in the order of `dot` (exactly 1 where all α_i = 1).
+    let a = sum(&omega);
+    Interp {
+        c: [
+            dot(&omega, ch, |v| v.0[0]),
+            dot(&omega, ch, |v| v.0[1]),
+            dot(&omega, ch, |v| v.0[2]),
+        ],
+        a,
+    }
+}
+
 impl sealed::Sealed for OpacityWeighted {}
 
 impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
@@ -28,22 +50,17 @@ impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
-        let ch = taps.map(|v| v.straight::<T>());
-        // ω_i = w_i·α_i: K multiplications.
-        let mut omega = *w;
-        for (o, v) in omega.iter_mut().zip(ch.iter()) {
-            *o = *o * v.1;
-        }
-        // α = Σ ω_i: K−1 additions, in the order of `dot` (exactly 1 where all α_i = 1).
-        let a = sum(&omega);
-        Interp {
-            c: [
-                dot(&omega, &ch, |v| v.0[0]),
-                dot(&omega, &ch, |v| v.0[1]),
-                dot(&omega, &ch, |v| v.0[2]),
-            ],
-            a,
-        }
+        opacity_weighted(&taps.map(|v| v.straight::<T>()), w)
+    }
+
+    #[inline(always)]
+    fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
+        weighted_columns_x4(taps, w, |v| v.straight::<f32>(), true)
+    }
+
+    #[inline(always)]
+    fn finish_x4(&self, i: Interp<F32x4>, _d: f32) -> Interp<F32x4> {
+        clamped_x4(i)
     }
 
     #[inline(always)]

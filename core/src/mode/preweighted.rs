@@ -1,6 +1,10 @@
 //! `Preweighted`: interpolation of stored associated colors (Drebin 1988).
 
-use super::{linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
+use super::{
+    clamped_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_columns_x4,
+    Mode,
+};
+use crate::lanes::F32x4;
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::AssociatedVoxel;
@@ -44,5 +48,15 @@ impl<V: AssociatedVoxel> Mode<V> for Preweighted {
     #[inline(always)]
     fn finish(&self, i: Interp<f32>, _d: f32) -> Sample {
         Sample::clamped(i.c, i.a)
+    }
+
+    #[inline(always)]
+    fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
+        weighted_columns_x4(taps, w, |v| v.associated::<f32>(), false)
+    }
+
+    #[inline(always)]
+    fn finish_x4(&self, i: Interp<F32x4>, _d: f32) -> Interp<F32x4> {
+        clamped_x4(i)
     }
 }

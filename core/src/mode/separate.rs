@@ -1,6 +1,9 @@
 //! `Separate`: color and opacity interpolated independently (Levoy 1988/1990).
 
-use super::{linear_tree, linear_weighted, linear_weighted8_f32, sealed, Mode};
+use super::{
+    linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_columns_x4, Mode,
+};
+use crate::lanes::F32x4;
 use crate::num::Num;
 use crate::sample::{clamp01, Interp, Sample};
 use crate::voxel::StraightVoxel;
@@ -42,5 +45,21 @@ impl<V: StraightVoxel> Mode<V> for Separate {
     fn finish(&self, i: Interp<f32>, _d: f32) -> Sample {
         let a = clamp01(i.a);
         Sample::clamped(i.c.map(|c| c * a), a)
+    }
+
+    #[inline(always)]
+    fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
+        weighted_columns_x4(taps, w, |v| v.straight::<f32>(), false)
+    }
+
+    #[inline(always)]
+    fn finish_x4(&self, i: Interp<F32x4>, _d: f32) -> Interp<F32x4> {
+        // As `finish`: α clamped, `C̃ = C·α`, then `Sample::clamped` (which clamps α again).
+        let a = i.a.clamp_to(F32x4::ONE);
+        let [r, g, b] = i.c;
+        super::clamped_x4(Interp {
+            c: [r * a, g * a, b * a],
+            a,
+        })
     }
 }

@@ -1,0 +1,211 @@
+//! Four `f32` lanes: the number type of the packet kernels, which march four rays at once.
+//!
+//! [`F32x4`] implements [`Num`], so the generic kernels (the trilinear weights, the weighted
+//! sums of the modes) run on it unchanged, each lane doing exactly the `f32` operations of the
+//! scalar kernel in the same order. IEEE 754 `+`, `−`, `×` are correctly rounded whatever unit
+//! computes them, so **every lane is bit-identical to the scalar kernel** on every target;
+//! `tests/fast_paths.rs` in the host tests checks that for every mode and filter.
+//!
+//! The lanes are a plain `[f32; 4]` in portable Rust, with no `unsafe` and no target-specific
+//! code; the compiler may vectorise the lane loops. (An SSE2 `__m128` representation behind a
+//! feature was measured against it and gave no speed-up on x86-64, so it is not offered.)
+//!
+//! ```
+//! use volsample::lanes::F32x4;
+//! let x = F32x4::from_array([1.0, 2.0, 3.0, 4.0]);
+//! let y = x * x - F32x4::splat(1.0);
+//! assert_eq!(y.to_array(), [0.0, 3.0, 8.0, 15.0]);
+//! // Clamping as the scalar `Sample::clamped` does: NaN → 0, then into [0, hi].
+//! let c = F32x4::from_array([f32::NAN, -1.0, 0.5, 2.0]).clamp_to(F32x4::splat(1.0));
+//! assert_eq!(c.to_array(), [0.0, 0.0, 0.5, 1.0]);
+//! ```
+
+use core::ops::{Add, Mul, Sub};
+
+use crate::num::Num;
+
+mod repr {
+    //! One `f32` per lane.
+
+    /// The lanes.
+    pub type Repr = [f32; 4];
+
+    #[inline(always)]
+    fn zip(a: Repr, b: Repr, f: impl Fn(f32, f32) -> f32) -> Repr {
+        let [a0, a1, a2, a3] = a;
+        let [b0, b1, b2, b3] = b;
+        [f(a0, b0), f(a1, b1), f(a2, b2), f(a3, b3)]
+    }
+
+    #[inline(always)]
+    pub const fn from_array(a: [f32; 4]) -> Repr {
+        a
+    }
+
+    #[inline(always)]
+    pub fn to_array(v: Repr) -> [f32; 4] {
+        v
+    }
+
+    #[inline(always)]
+    pub fn splat(x: f32) -> Repr {
+        [x; 4]
+    }
+
+    #[inline(always)]
+    pub fn from_lanes(a: f32, b: f32, c: f32, d: f32) -> Repr {
+        [a, b, c, d]
+    }
+
+    #[inline(always)]
+    pub fn add(a: Repr, b: Repr) -> Repr {
+        zip(a, b, |x, y| x + y)
+    }
+
+    #[inline(always)]
+    pub fn sub(a: Repr, b: Repr) -> Repr {
+        zip(a, b, |x, y| x - y)
+    }
+
+    #[inline(always)]
+    pub fn mul(a: Repr, b: Repr) -> Repr {
+        zip(a, b, |x, y| x * y)
+    }
+
+    #[inline(always)]
+    pub fn clamp_to(x: Repr, hi: Repr) -> Repr {
+        zip(x, hi, crate::sample::clamp_to)
+    }
+
+    #[inline(always)]
+    pub fn select(m: [bool; 4], a: Repr, b: Repr) -> Repr {
+        let [m0, m1, m2, m3] = m;
+        let pick = |m: bool, x: f32, y: f32| if m { x } else { y };
+        [
+            pick(m0, a[0], b[0]),
+            pick(m1, a[1], b[1]),
+            pick(m2, a[2], b[2]),
+            pick(m3, a[3], b[3]),
+        ]
+    }
+}
+
+/// Four `f32` lanes; every operation is the `f32` operation lane by lane.
+#[derive(Clone, Copy)]
+pub struct F32x4(repr::Repr);
+
+impl F32x4 {
+    /// All lanes `x`.
+    #[inline(always)]
+    pub fn splat(x: f32) -> Self {
+        Self(repr::splat(x))
+    }
+
+    /// Lanes from an array, lane 0 first.
+    #[inline(always)]
+    pub fn from_array(a: [f32; 4]) -> Self {
+        let [a0, a1, a2, a3] = a;
+        Self(repr::from_lanes(a0, a1, a2, a3))
+    }
+
+    /// The lanes as an array, lane 0 first.
+    #[inline(always)]
+    pub fn to_array(self) -> [f32; 4] {
+        repr::to_array(self.0)
+    }
+
+    /// `f(lane)` for each of four values, packed into lanes.
+    #[inline(always)]
+    pub fn gather<X: Copy>(xs: [X; 4], f: impl Fn(X) -> f32) -> Self {
+        let [a, b, c, d] = xs;
+        Self(repr::from_lanes(f(a), f(b), f(c), f(d)))
+    }
+
+    /// Clamps each lane into `[0, hi]` with NaN mapped to 0, as the scalar kernels clamp
+    /// (`x.max(0.0).min(hi)`), for `hi ≥ 0` and not NaN. Where `x` or `hi` is a zero, the
+    /// result may be the other zero than the scalar one: the kernels only add such a value to
+    /// an accumulator that starts at `+0`, so no result of theirs can tell.
+    #[inline(always)]
+    pub fn clamp_to(self, hi: Self) -> Self {
+        Self(repr::clamp_to(self.0, hi.0))
+    }
+
+    /// Lane `l` of `self` where `mask[l]`, else lane `l` of `other`.
+    #[inline(always)]
+    pub fn select(mask: [bool; 4], a: Self, b: Self) -> Self {
+        Self(repr::select(mask, a.0, b.0))
+    }
+}
+
+impl core::fmt::Debug for F32x4 {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_tuple("F32x4").field(&self.to_array()).finish()
+    }
+}
+
+impl PartialEq for F32x4 {
+    /// Lane-wise `==` on every lane (so NaN ≠ NaN, `+0 == −0`).
+    fn eq(&self, other: &Self) -> bool {
+        self.to_array() == other.to_array()
+    }
+}
+
+impl Add for F32x4 {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, rhs: Self) -> Self {
+        Self(repr::add(self.0, rhs.0))
+    }
+}
+
+impl Sub for F32x4 {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, rhs: Self) -> Self {
+        Self(repr::sub(self.0, rhs.0))
+    }
+}
+
+impl Mul for F32x4 {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, rhs: Self) -> Self {
+        Self(repr::mul(self.0, rhs.0))
+    }
+}
+
+impl Num for F32x4 {
+    const ZERO: Self = Self(repr::from_array([0.0; 4]));
+    const ONE: Self = Self(repr::from_array([1.0; 4]));
+    #[inline(always)]
+    fn from_f32(x: f32) -> Self {
+        Self::splat(x)
+    }
+}
+
+/// Transposes four lanes of `N` values into `N` lane vectors: `out[k]` lane `l` is
+/// `rows[l][k]`.
+#[inline(always)]
+pub(crate) fn pack<const N: usize>(rows: [[f32; N]; 4]) -> [F32x4; N] {
+    let [r0, r1, r2, r3] = rows;
+    let mut out = [F32x4::ZERO; N];
+    for ((((o, a), b), c), d) in out.iter_mut().zip(r0).zip(r1).zip(r2).zip(r3) {
+        *o = F32x4(repr::from_lanes(a, b, c, d));
+    }
+    out
+}
+
+/// The inverse of [`pack`]: lane `l` of every vector, per lane.
+#[inline(always)]
+pub(crate) fn unpack<const N: usize>(v: [F32x4; N]) -> [[f32; N]; 4] {
+    let mut out = [[0.0f32; N]; 4];
+    for (k, x) in v.iter().enumerate() {
+        let [a, b, c, d] = x.to_array();
+        for (row, y) in out.iter_mut().zip([a, b, c, d]) {
+            if let Some(slot) = row.get_mut(k) {
+                *slot = y;
+            }
+        }
+    }
+    out
+}
