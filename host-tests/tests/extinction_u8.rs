@@ -154,6 +154,37 @@ fn tau_table_entries_hold_the_from_straight_bound() {
     println!("TauTable worst relative error: {worst:.3} of FROM_STRAIGHT_TAU_REL");
 }
 
+/// `TauTable::extinction` of every voxel byte pair `(c, α)` against
+/// `ExtinctionF32::from_straight` of the same voxel read as `n/255`, bit for bit, for several
+/// `d′`: the per-voxel identity behind the sampling identity above, exhaustively. (It also
+/// holds the table's `C^τ = τ·C` to the `min(τ)` of `from_straight` without computing it: the
+/// product of `τ` and a value in `[0, 1]` rounds to at most `τ`.)
+#[test]
+fn tau_table_extinction_equals_from_straight_for_every_byte_pair() {
+    for d_ref in [1.0f32, 0.5, 0.3, 7.0, 1e-3, f32::MIN_POSITIVE] {
+        let t = TauTable::new(d_ref).unwrap();
+        for a in 0..=255u8 {
+            for c in 0..=255u8 {
+                let v = StraightU8([c, 255 - c, c / 2, a]);
+                let [r, g, b, a8] = v.0.map(unorm8);
+                let want = ExtinctionF32::from_straight(
+                    StraightF32 {
+                        c: [r, g, b],
+                        a: a8,
+                    },
+                    d_ref,
+                );
+                let got = t.extinction(v);
+                let bits = |e: ExtinctionF32| e.c_tau.map(f32::to_bits);
+                assert!(
+                    bits(got) == bits(want) && got.tau.to_bits() == want.tau.to_bits(),
+                    "d′ = {d_ref}, voxel {v:?}: {got:?} vs {want:?}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn tau_table_rejects_bad_reference_distances() {
     for d in [

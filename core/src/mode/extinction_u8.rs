@@ -76,7 +76,12 @@ impl TauTable {
         let [r, g, b, a] = v.0;
         let tau = self.tau(a);
         ExtinctionF32 {
-            c_tau: [r, g, b].map(|c| (tau * unorm8(c)).min(tau)),
+            // `from_straight` caps `C^τ` at `τ`; here the cap is never needed: `τ` is finite
+            // and `n/255 ≤ 1`, and the rounded product of `τ` and a value in `[0, 1]` is at
+            // most `τ` (rounding is monotone and `τ` is representable), so leaving it out
+            // changes no bit (checked for every byte pair in the host tests) and saves
+            // three `min`s a tap.
+            c_tau: [r, g, b].map(|c| tau * unorm8(c)),
             tau,
         }
     }
