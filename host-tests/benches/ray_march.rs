@@ -37,8 +37,9 @@ use volsample::mode::{ExtinctionWeightedU8, TauTable};
 use volsample::skip::{Occupancy, Skipping};
 use volsample::voxel::Voxel;
 use volsample::{
-    ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack, Mode, OpacityWeighted, Ray, RayMarcher,
-    Sample, Separate, Step, StraightF32, StraightU8, Trilinear, Volume,
+    Camera, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack, Mode, OpacityWeighted,
+    Perspective, Ray, RayMarcher, Sample, Separate, Step, StraightF32, StraightU8, Trilinear,
+    Volume,
 };
 
 /// The step, and the reference distance the opacities are defined for.
@@ -493,6 +494,52 @@ fn bench(c: &mut Criterion) {
                 }
                 black_box(s)
             })
+        });
+    }
+
+    {
+        // Where packets do not pay: a 64×64 perspective view of a 32³ volume (rays in every
+        // direction, in cache), one ray at a time and four at a time.
+        let v32 = volume(32);
+        let vol32 = Volume::new(&v32, [32; 3])
+            .unwrap()
+            .with_reference_distance(D)
+            .unwrap();
+        let ow32 = RayMarcher::new(
+            vol32,
+            OpacityWeighted,
+            Trilinear::new(),
+            FrontToBack::new(),
+            step,
+        )
+        .unwrap();
+        let cam = Perspective::new(
+            [40.0, 35.0, -30.0],
+            [15.5, 15.5, 15.5],
+            [0.0, 1.0, 0.0],
+            0.8,
+        )
+        .unwrap();
+        let prays: Vec<Ray> = (0..64 * 64)
+            .map(|k| cam.ray(k % 64, k / 64, 64, 64))
+            .collect();
+        let np: u64 = prays
+            .iter()
+            .map(|r| u64::from(ow32.sample_range(r).1))
+            .sum();
+        g.throughput(Throughput::Elements(np));
+        g.bench_function("ow_f32_u8_32_perspective", |b| {
+            b.iter(|| {
+                let mut s = 0.0f32;
+                for r in &prays {
+                    s += all_channels(ow32.cast(r));
+                }
+                black_box(s)
+            })
+        });
+        let mut pout = vec![Sample::TRANSPARENT; prays.len()];
+        g.bench_function("ow_f32_u8_32_perspective_packets", |b| {
+            b.iter(|| black_box(packets(&ow32, &prays, &mut pout)))
         });
     }
 

@@ -257,44 +257,6 @@ fn fill(
     Ok(samples)
 }
 
-/// [`fill`] four neighbouring pixels at a time (`cast4`, the float marchers' packets), the
-/// rest of each row by `cast`.
-#[inline(always)]
-fn fill4(
-    cam: &Cam,
-    [w, h]: [usize; 2],
-    pixels: &mut [Sample],
-    cast4: impl Fn(&[volsample::Ray; 4]) -> [(Sample, u32); 4],
-    cast: impl Fn(&volsample::Ray) -> (Sample, u32),
-) -> Result<u64, volsample::Error> {
-    if pixels.len() != w * h {
-        return Err(volsample::Error::ImageSizeMismatch {
-            expected: w * h,
-            actual: pixels.len(),
-        });
-    }
-    let mut samples = 0u64;
-    for (j, row) in pixels.chunks_exact_mut(w).enumerate() {
-        let mut quads = row.chunks_exact_mut(4);
-        let mut i = 0;
-        for quad in &mut quads {
-            let rays = [i, i + 1, i + 2, i + 3].map(|k| cam.ray(k, j, w, h));
-            for (px, (s, n)) in quad.iter_mut().zip(cast4(&rays)) {
-                *px = s;
-                samples += u64::from(n);
-            }
-            i += 4;
-        }
-        for px in quads.into_remainder() {
-            let (s, n) = cast(&cam.ray(i, j, w, h));
-            *px = s;
-            samples += u64::from(n);
-            i += 1;
-        }
-    }
-    Ok(samples)
-}
-
 struct FloatFrames<'v, V, M, F, O> {
     marcher: RayMarcher<'v, V, M, F, O>,
     cam: Cam,
@@ -309,13 +271,9 @@ impl<V: Voxel, M: Mode<V>, F: Filter, O: volsample::composite::Order> Frames
     }
 
     fn frame(&self, pixels: &mut [Sample]) -> Result<u64, volsample::Error> {
-        fill4(
-            &self.cam,
-            self.image,
-            pixels,
-            |rays| self.marcher.cast4(rays),
-            |ray| self.marcher.cast_counted(ray),
-        )
+        fill(&self.cam, self.image, pixels, |ray| {
+            self.marcher.cast_counted(ray)
+        })
     }
 }
 
