@@ -476,8 +476,7 @@ where
         let mut samples = unpack_interp(acc).map(|x| Sample { c: x.c, a: x.a });
         // The last ray still going (rays of a packet differ in length) finishes one sample at
         // a time, from the sample and the `acc` it reached: the same operations as in its
-        // lane, without three idle lanes (whose wasted work, opacity correction included,
-        // made the packets slower than single rays where lengths differ much).
+        // lane, without carrying three idle lanes through its remaining samples.
         for (((s, k), &l), (ray, &range)) in samples
             .iter_mut()
             .zip(count.iter_mut())
