@@ -311,6 +311,29 @@ where
     ) -> (Sample, u32) {
         let d = self.step.d;
         let term = self.order.termination();
+        let mut j0 = j0;
+        if sample_lanes::<V, M, F>() {
+            // Four consecutive samples at a time in lanes, composited in order; the samples
+            // after an early stop are computed and dropped.
+            while n.saturating_sub(j0) >= 4 {
+                let pos: [[f32; 3]; 4] =
+                    core::array::from_fn(|l| ray.at(t_first + (j0 + l as u32) as f32 * d));
+                let keep = pos.map(|p| !self.skip.empty(p));
+                if keep.iter().any(|&k| k) {
+                    let i = F::interpolate_x4(&self.mode, &self.volume, pos);
+                    let s = unpack_interp(corr.apply_x4(self.mode.finish_x4(i, d)));
+                    for (l, (s, k)) in s.iter().zip(keep).enumerate() {
+                        if k {
+                            acc = front_to_back(acc, Sample { c: s.c, a: s.a });
+                            if term.done(acc.a) {
+                                return (acc, j0 + l as u32 + 1);
+                            }
+                        }
+                    }
+                }
+                j0 += 4;
+            }
+        }
         for j in j0..n {
             let p = ray.at(t_first + j as f32 * d);
             // A skipped sample is transparent, so `acc` and the termination test are
@@ -512,6 +535,29 @@ where
     ) -> Result<(), Error> {
         trace_image(camera, width, height, image, |ray| self.cast(ray))
     }
+}
+
+/// Whether [`RayMarcher::cast`] marches front-to-back rays four consecutive samples at a time
+/// in [`F32x4`] lanes (bit-identical to one at a time, `tests/fast_paths.rs`): on targets with
+/// 128-bit `f32` vector units (SSE2, NEON, WebAssembly SIMD), where the four samples' weights
+/// and sums share vector instructions and their chains of dependent operations overlap. A
+/// scalar FPU (Cortex-M4F) gains nothing from the lanes but code and stack, so there each
+/// sample runs on its own.
+const SAMPLE_LANES: bool = cfg!(any(
+    target_feature = "sse2",
+    target_feature = "neon",
+    target_feature = "simd128"
+));
+
+/// Whether [`RayMarcher::cast`] marches a front-to-back ray of this voxel format, mode and
+/// filter four samples at a time ([`SAMPLE_LANES`]): not for [`Nearest`](crate::Nearest)
+/// (one tap, [`Filter::PACKETS`]), nor for the opacity-based modes reading 8 taps of
+/// [`Voxel::F32_CHANNELS`] formats, whose one-sample kernel already works on four-lane taps.
+/// Measured with `volsample report` (both binaries run side by side, three times): in lanes
+/// the B-spline methods took 0.47–0.70 and `Preweighted` over bytes 0.53 of the time, the
+/// f32 extinction 0.95, `OpacityWeighted` over `StraightF32` 1.13.
+const fn sample_lanes<V: Voxel, M: Mode<V>, F: Filter>() -> bool {
+    SAMPLE_LANES && F::PACKETS && !(V::F32_CHANNELS && M::OPACITY_BASED && F::TAPS == 8)
 }
 
 /// Checks an image buffer: [`Error::EmptyImage`] for a zero width or height,

@@ -11,7 +11,7 @@
 //!
 //! `VOLSAMPLE_FAST_PATH_CASES` sets the number of random cases (default 2000).
 
-use volsample::composite::{back_to_front, front_to_back, over, Order};
+use volsample::composite::{back_to_front, front_to_back, over, Order, Termination};
 use volsample::filter::trilinear_weights;
 use volsample::fixed_point::{IntMode, IntPos, IntSampler, IntWeights};
 use volsample::mode::{ExtinctionWeightedU8, TauTable};
@@ -344,6 +344,65 @@ where
     }
 }
 
+/// A front-to-back ray one sample at a time from the public per-sample kernel
+/// ([`RayMarcher::sample`]): `empty` samples skipped, stopping after the sample at which
+/// `done(A)` holds, then over `bg`; with the number of samples taken.
+fn one_at_a_time<V, M, F, O, S>(
+    m: &RayMarcher<'_, V, M, F, O, S>,
+    ray: &Ray,
+    done: impl Fn(f32) -> bool,
+    empty: impl Fn([f32; 3]) -> bool,
+    bg: Sample,
+) -> (Sample, u32)
+where
+    V: Voxel,
+    M: Mode<V>,
+    F: Filter,
+    O: Order,
+    S: Skipping,
+{
+    let (t_first, n) = m.sample_range(ray);
+    let d = m.step().d();
+    let mut acc = Sample::TRANSPARENT;
+    for j in 0..n {
+        let p = ray.at(t_first + j as f32 * d);
+        if empty(p) {
+            continue;
+        }
+        acc = front_to_back(acc, m.sample(p));
+        if done(acc.a) {
+            return (over(acc, bg), j + 1);
+        }
+    }
+    (over(acc, bg), n)
+}
+
+/// `cast_counted` (which marches four consecutive samples of a ray in lanes) against
+/// [`one_at_a_time`]: bit-identical results and counts.
+fn check_sample_lanes<V, M, F, O, S>(
+    m: &RayMarcher<'_, V, M, F, O, S>,
+    rays: &[Ray],
+    done: impl Fn(f32) -> bool,
+    empty: impl Fn([f32; 3]) -> bool,
+    bg: Sample,
+    what: &str,
+) where
+    V: Voxel,
+    M: Mode<V>,
+    F: Filter,
+    O: Order,
+    S: Skipping,
+{
+    for ray in rays {
+        let (got, n) = m.cast_counted(ray);
+        let (want, k) = one_at_a_time(m, ray, &done, &empty, bg);
+        assert!(
+            same_sample(&got, &want) && n == k,
+            "{what}: {ray:?}: lanes {got:?} ({n} samples) vs one at a time {want:?} ({k})"
+        );
+    }
+}
+
 /// The packet kernels (four rays in [`volsample::lanes::F32x4`] lanes) are bit-identical to
 /// single rays, for every mode, filter, voxel format, order and stage: opacity correction,
 /// early termination, a background, empty-space skipping, rays that miss or end early.
@@ -427,18 +486,23 @@ fn packets_are_bit_identical_to_single_rays() {
 
         macro_rules! all_filters {
             ($vol:expr, $mode:expr, $what:expr) => {{
+                let t = Sample::TRANSPARENT;
+                let done = |a| stop.0.done(a);
+                let never = |_: f32| false;
+                let none = |_: [f32; 3]| false;
                 let m = RayMarcher::new($vol, $mode, Trilinear::new(), stop, step).unwrap();
-                check_packets(
-                    &m.with_background(bg).unwrap(),
-                    &rays,
-                    concat!($what, " trilinear"),
-                );
+                let m = m.with_background(bg).unwrap();
+                check_packets(&m, &rays, concat!($what, " trilinear"));
+                check_sample_lanes(&m, &rays, done, none, bg, concat!($what, " trilinear"));
                 let m = RayMarcher::new($vol, $mode, Trilinear::tree(), ftb, step).unwrap();
                 check_packets(&m, &rays, concat!($what, " tree"));
+                check_sample_lanes(&m, &rays, never, none, t, concat!($what, " tree"));
                 let m = RayMarcher::new($vol, $mode, Nearest, stop, step).unwrap();
                 check_packets(&m, &rays, concat!($what, " nearest"));
+                check_sample_lanes(&m, &rays, done, none, t, concat!($what, " nearest"));
                 let m = RayMarcher::new($vol, $mode, TriquadraticBSpline, ftb, step).unwrap();
                 check_packets(&m, &rays, concat!($what, " bspline"));
+                check_sample_lanes(&m, &rays, never, none, t, concat!($what, " bspline"));
                 let m = RayMarcher::new($vol, $mode, Trilinear::new(), BackToFront, step).unwrap();
                 check_packets(&m, &rays, concat!($what, " back to front"));
             }};
@@ -457,6 +521,10 @@ fn packets_are_bit_identical_to_single_rays() {
         let m = RayMarcher::new(v8, OpacityWeighted, Trilinear::new(), stop, step).unwrap();
         let skip = m.with_skipping(&mut grid, [0, 1, 2][case % 3]).unwrap();
         check_packets(&skip, &rays, "OW u8 skipping");
+        let occ = *skip.occupancy().unwrap();
+        let (done, empty) = (|a| stop.0.done(a), |p| occ.is_empty_at(p));
+        let t = Sample::TRANSPARENT;
+        check_sample_lanes(&skip, &rays, done, empty, t, "OW u8 skipping");
     }
 }
 
