@@ -1,4 +1,6 @@
-//! Four `f32` lanes: the number type of the packet kernels, which march four rays at once.
+//! Four `f32` lanes: the number type of the lane kernels, which compute four consecutive
+//! samples of one ray at once ([`RayMarcher::cast`](crate::RayMarcher::cast) on SIMD targets)
+//! or march four rays at once ([`RayMarcher::cast4`](crate::RayMarcher::cast4)).
 //!
 //! [`F32x4`] implements [`Num`], so the generic kernels (the trilinear weights, the weighted
 //! sums of the modes) run on it unchanged, each lane doing exactly the `f32` operations of the

@@ -12,7 +12,8 @@
 //! * **How samples combine** — [`composite`]: front to back (with optional early
 //!   termination) or back to front, over a background.
 //! * **Along which rays** — [`ray`] clipping and cameras, [`render`] for whole images, one
-//!   ray at a time or four in [`lanes`] ([`RayMarcher::cast_rays`], bit-identical).
+//!   ray at a time (four consecutive samples in [`lanes`] on SIMD targets) or four rays in
+//!   lanes ([`RayMarcher::cast_rays`]); bit-identical either way.
 //!
 //! Every choice is a type, so a pipeline contains only the stages its scene uses. Inputs are
 //! validated once, at construction, into [`Error`] values; the kernels cannot panic, allocate

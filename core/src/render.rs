@@ -248,6 +248,16 @@ where
     }
 
     /// Integrates one ray and composites it over the background.
+    ///
+    /// Front to back, on targets with 128-bit `f32` vector units (x86-64, AArch64, WebAssembly
+    /// SIMD), four consecutive samples are computed at a time in [`F32x4`] lanes and then
+    /// composited in order (the samples after an early stop are computed and dropped): the
+    /// same `f32` operations per sample as one at a time, so the result is bit-identical
+    /// (`tests/fast_paths.rs`), and the four samples' chains of dependent operations overlap.
+    /// In the `ray_march` bench this took `ExtinctionWeighted` from 2.4–3.0× the time of
+    /// `OpacityWeighted` to 1.3–1.4×. Not for [`Nearest`](crate::Nearest) nor for the
+    /// opacity-based trilinear kernels over [`Voxel::F32_CHANNELS`] formats, which ran as fast
+    /// or faster one sample at a time; nor on a scalar FPU such as the Cortex-M4F's.
     #[inline]
     pub fn cast(&self, ray: &Ray) -> Sample {
         self.cast_counted(ray).0
@@ -297,9 +307,9 @@ where
         (acc, n)
     }
 
-    /// Front to back from sample `j0` on, with `acc` composited so far: the tail of
-    /// [`march`](Self::march), where [`march4`](Self::march4) hands over a ray that is the last
-    /// of its packet still going.
+    /// Front to back from sample `j0` on, with `acc` composited so far, four samples at a time
+    /// in lanes where [`sample_lanes`] says so: the tail of [`march`](Self::march), where
+    /// [`march4`](Self::march4) hands over a ray that is the last of its packet still going.
     #[inline(always)]
     fn march_from<C: Correction>(
         &self,
