@@ -34,10 +34,14 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
     /// Number of voxels read per sample.
     const TAPS: usize;
 
-    /// Whether [`RayMarcher::cast4`](crate::RayMarcher::cast4) marches four rays in lanes
-    /// with this filter (`true`) or casts them one by one (`false`; the results are the same
+    /// Whether the lane kernels run with this filter (`true`): [`RayMarcher::cast4`]
+    /// marching four rays in lanes, and [`RayMarcher::cast`] computing four consecutive
+    /// samples in lanes; with `false` rays and samples go one by one (the results are the same
     /// bit for bit either way). One tap per sample leaves [`Nearest`] too little arithmetic
     /// to share among the lanes: in packets it ran 1.2–1.9× slower in `volsample report`.
+    ///
+    /// [`RayMarcher::cast4`]: crate::RayMarcher::cast4
+    /// [`RayMarcher::cast`]: crate::RayMarcher::cast
     const PACKETS: bool = true;
 
     /// Reconstructs the quantities `mode` interpolates at `pos` (voxel units).

@@ -254,8 +254,8 @@ where
     /// composited in order (the samples after an early stop are computed and dropped): the
     /// same `f32` operations per sample as one at a time, so the result is bit-identical
     /// (`tests/fast_paths.rs`), and the four samples' chains of dependent operations overlap.
-    /// In the `ray_march` bench this took `ExtinctionWeighted` from 2.4–3.0× the time of
-    /// `OpacityWeighted` to 1.3–1.4×. Not for [`Nearest`](crate::Nearest) nor for the
+    /// In the `ray_march` bench (same-load runs) this took `ExtinctionWeighted` from 2.4–3.0×
+    /// the time of `OpacityWeighted` to 1.17–1.58×. Not for [`Nearest`](crate::Nearest) nor for the
     /// opacity-based trilinear kernels over [`Voxel::F32_CHANNELS`] formats, which ran as fast
     /// or faster one sample at a time; nor on a scalar FPU such as the Cortex-M4F's.
     #[inline]
@@ -405,12 +405,14 @@ where
     /// Casts every ray of `rays` into `out` (`out[i]` is `cast(&rays[i])`, bit for bit), four
     /// at a time with [`cast4`](Self::cast4).
     ///
-    /// Faster for long, similar rays: in the `ray_march` bench (coherent rays through 256³,
-    /// 2-core Xeon) `OpacityWeighted` took 0.71–0.83 and `ExtinctionWeighted` 0.41–0.46 of the
-    /// one-ray-at-a-time time. Not always: for a 64×64 perspective view of a 32³ volume (the
-    /// bench's `ow_f32_u8_32_perspective` rows) `OpacityWeighted` trilinear ran 1.2–1.5×
-    /// slower in packets, so [`render_into`](Self::render_into) does not use them. Measure on
-    /// your rays.
+    /// Packets overlap the four rays' chains of dependent operations; so does
+    /// [`cast`](Self::cast) with four consecutive samples of one ray in lanes, which wastes no
+    /// lane on rays of different lengths. Since `cast` does that, packets no longer pay in the
+    /// `ray_march` bench (coherent rays through 256³, 2-core Xeon): `OpacityWeighted` over
+    /// RGBA8 took 0.99–1.16 of `cast`'s time in five runs, and a 64×64 perspective view of 32³
+    /// 35.3 vs 33.5 ns/sample; so [`render_into`](Self::render_into) does not use them. They
+    /// may still pay where `cast` runs one sample at a time (the opacity-based trilinear
+    /// kernels over [`Voxel::F32_CHANNELS`] formats). Measure on your rays.
     ///
     /// # Errors
     /// [`Error::ImageSizeMismatch`] unless `out.len() == rays.len()`.
