@@ -255,9 +255,9 @@ where
     /// same `f32` operations per sample as one at a time, so the result is bit-identical
     /// (`tests/fast_paths.rs`), and the four samples' chains of dependent operations overlap.
     /// In the `ray_march` bench (same-load runs) this took `ExtinctionWeighted` from 2.4–3.0×
-    /// the time of `OpacityWeighted` to 1.17–1.58×. Not for [`Nearest`](crate::Nearest) nor for the
-    /// opacity-based trilinear kernels over [`Voxel::F32_CHANNELS`] formats, which ran as fast
-    /// or faster one sample at a time; nor on a scalar FPU such as the Cortex-M4F's.
+    /// the time of `OpacityWeighted` to 1.17–1.58×. Not for [`Nearest`](crate::Nearest), nor
+    /// for the opacity-based trilinear kernels over [`Voxel::F32_CHANNELS`] formats, which ran
+    /// as fast or faster one sample at a time, nor on a scalar FPU such as the Cortex-M4F's.
     #[inline]
     pub fn cast(&self, ray: &Ray) -> Sample {
         self.cast_counted(ray).0
