@@ -6,6 +6,8 @@
 //! * [`Mode::weighted8_f32`] (four lanes per tap) against [`Mode::weighted`] in `f32`;
 //! * whole rays of [`RayMarcher`] against a plain marcher written here from the public
 //!   kernels (clamped gather, generic weighted sum, `finish`, correction, compositing);
+//! * `cast` (four consecutive samples in lanes) against one sample at a time through
+//!   [`RayMarcher::sample`], and the packets (four rays in lanes) against single rays;
 //! * the integer sampler's interior path and truncating quantization against clamped taps
 //!   and `floor`.
 //!
@@ -404,8 +406,10 @@ fn check_sample_lanes<V, M, F, O, S>(
 }
 
 /// The packet kernels (four rays in [`volsample::lanes::F32x4`] lanes) are bit-identical to
-/// single rays, for every mode, filter, voxel format, order and stage: opacity correction,
-/// early termination, a background, empty-space skipping, rays that miss or end early.
+/// single rays, and single rays (four consecutive samples in lanes, front to back) to one
+/// sample at a time, for every mode, filter, voxel format, order and stage: opacity
+/// correction, early termination, a background, empty-space skipping, rays that miss or end
+/// early.
 #[test]
 fn packets_are_bit_identical_to_single_rays() {
     let mut rng = Rng(0x7AC4_E75A_11CE_0004);
