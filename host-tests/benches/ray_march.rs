@@ -20,6 +20,13 @@
 //! Packets: the `_packets` rows and passes march the same rays four at a time
 //! ([`RayMarcher::cast_rays`], bit-identical per ray to `cast`), the others one at a time.
 //!
+//! Yardsticks: the `yardstick_` rows and the last two passes march the same samples with
+//! loops that are not volsample (`volsample_host::yardstick`): a hand-tuned one (SSE2 on
+//! x86-64, byte units, one bounds check per cell, not bit-identical to the library) and a
+//! naive one. They say what a hand-written kernel gets from the machine at hand, in the same
+//! run and under the same load; the issue's ≤ 5 ns/sample target was set where a hand-tuned
+//! probe ran at about 6 ns.
+//!
 //! Every row consumes all four channels of every pixel (a sum of `α` and `C̃`), so no
 //! arithmetic can be dropped as unused.
 //!
@@ -41,6 +48,7 @@ use volsample::{
     Perspective, Ray, RayMarcher, Sample, Separate, Step, StraightF32, StraightU8, Trilinear,
     Volume,
 };
+use volsample_host::yardstick;
 
 /// The step, and the reference distance the opacities are defined for.
 const D: f32 = 0.5;
@@ -155,7 +163,15 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
     };
     let rounds = if quick() { 6 } else { 12 };
     let out = RefCell::new(vec![Sample::TRANSPARENT; rays.len()]);
-    let passes: [(&str, &dyn Fn() -> f32); 10] = [
+    // The yardsticks march the same samples (volsample's sample ranges).
+    let ranges: Vec<(f32, u32)> = rays.iter().map(|r| ow.sample_range(r)).collect();
+    let yard = |f: yardstick::Kernel| {
+        rays.iter()
+            .zip(&ranges)
+            .map(|(r, &(t, k))| f(v256, 256, r, t, k, D).iter().sum::<f32>())
+            .sum()
+    };
+    let passes: [(&str, &dyn Fn() -> f32); 12] = [
         ("OpacityWeighted f32", &|| {
             rays.iter().map(|r| all_channels(ow.cast(r))).sum()
         }),
@@ -191,13 +207,19 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         ("ExtinctionWeightedU8, packets", &|| {
             packets(&em8, rays, &mut out.borrow_mut())
         }),
+        ("yardstick: hand-tuned loop (not volsample)", &|| {
+            yard(yardstick::tuned)
+        }),
+        ("yardstick: naive loop (not volsample)", &|| {
+            yard(yardstick::naive)
+        }),
     ];
     // Round `k` starts with pass `k mod (number of passes)`, so every pass takes every place in the order
     // equally often and an effect of the place (of the passes run just before) is spread
     // over all of them instead of falling on one.
     let mut per = vec![Vec::new(); passes.len()];
     for round in 0..rounds {
-        let mut t = [0.0f64; 10];
+        let mut t = [0.0f64; 12];
         for k in 0..passes.len() {
             let i = (round + k) % passes.len();
             t[i] = time(passes[i].1);
@@ -221,7 +243,7 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
     let ratio = |p: &[f64], base: &[f64]| median(p.iter().zip(base).map(|(a, b)| a / b).collect());
     println!("ray_march/interleaved: {rounds} rounds, 256³, {n} samples per pass");
     for (k, ((name, _), p)) in passes.iter().zip(&per).enumerate() {
-        let packed = if k >= 6 {
+        let packed = if (6..10).contains(&k) {
             format!("   / OW f32 packets: {:.3}", ratio(p, &per[6]))
         } else {
             String::new()
@@ -307,6 +329,23 @@ fn bench(c: &mut Criterion) {
     g.bench_function("ow_f32_u8_256_packets", |b| {
         b.iter(|| black_box(packets(&ow, &rays256, &mut out)))
     });
+
+    // The yardsticks (not volsample): the same samples by a hand-tuned and a naive loop.
+    let ranges: Vec<(f32, u32)> = rays256.iter().map(|r| ow.sample_range(r)).collect();
+    for (name, f) in [
+        ("yardstick_tuned_256", yardstick::tuned as yardstick::Kernel),
+        ("yardstick_naive_256", yardstick::naive),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let mut s = 0.0f32;
+                for (r, &(t, k)) in rays256.iter().zip(&ranges) {
+                    s += f(&v256, 256, r, t, k, D).iter().sum::<f32>();
+                }
+                black_box(s)
+            })
+        });
+    }
 
     let sep = RayMarcher::new(vol, Separate, Trilinear::new(), FrontToBack::new(), step).unwrap();
     g.bench_function("separate_f32_u8_256", |b| {

@@ -17,6 +17,7 @@ pub mod scene;
 pub mod strategies;
 pub mod tolerance;
 pub mod vectors;
+pub mod yardstick;
 
 #[cfg(doctest)]
 #[doc = include_str!("../../README.md")]
