@@ -123,12 +123,13 @@ fn tuned_scalar(
             b + plane,
             b + plane + 1,
             b + plane + n,
+            b + plane + n + 1,
         ];
         let w = weights(f);
         let mut s = [0.0f32; 4];
-        for (k, &at) in corners.iter().chain(&[b + plane + n + 1]).enumerate() {
+        for (&at, wk) in corners.iter().zip(w) {
             let q = v[at].0.map(f32::from);
-            let om = w[k] * q[3];
+            let om = wk * q[3];
             for c in 0..3 {
                 s[c] += om * q[c];
             }
