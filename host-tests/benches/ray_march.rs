@@ -22,7 +22,7 @@
 //!
 //! Yardsticks: the `yardstick_` rows and the last two passes march the same samples with
 //! loops that are not volsample (`volsample_host::yardstick`): a hand-tuned one (SSE2 on
-//! x86-64, byte units, one bounds check per cell, not bit-identical to the library) and a
+//! x86-64, byte units, no per-tap checks, not bit-identical to the library) and a
 //! naive one. They say what a hand-written kernel gets from the machine at hand, in the same
 //! run and under the same load; the issue's ≤ 5 ns/sample target was set where a hand-tuned
 //! probe ran at about 6 ns.

@@ -124,7 +124,7 @@ def main():
     label, pos, _, ns_scipy, ns_nano = rows[0]
     rows.insert(1, (label + " x4", pos, "ow_f32_u8_256_packets", ns_scipy, ns_nano))
     # The bench's yardstick (not volsample): a hand-tuned SSE2 loop doing the same work on
-    # the same rays, so the ratios show what this machine allows any kernel.
+    # the same rays, so the ratios show what a hand-written kernel gets on this machine.
     rows.insert(2, ("hand-tuned", pos, "yardstick_tuned_256", ns_scipy, ns_nano))
     for label, pos, bench, ns_scipy, ns_nano in rows:
         ns_vs = volsample_ns(criterion_dir, bench)

@@ -11,10 +11,11 @@
 //!
 //! * [`naive`]: the textbook loop — per sample `⌊p⌋`, eight indexed reads, the weights as
 //!   products of `(1 − f, f)`, every byte divided by 255.
-//! * [`tuned`]: what a hand-tuned probe does — incremental positions, one bounds check per
-//!   cell, byte units throughout (`ω = w·α₂₅₅`, `Σ ω·C₂₅₅`), scaled once per sample; on
-//!   x86-64 in SSE2 (the baseline there, so no run-time detection), with the four channels
-//!   of a voxel in the four lanes; elsewhere the same arithmetic in scalar code.
+//! * [`tuned`]: what a hand-tuned probe does — incremental positions, the cell clamped into
+//!   the grid once per sample, byte units throughout (`ω = w·α₂₅₅`, `Σ ω·C₂₅₅`), scaled once
+//!   per sample; on x86-64 in SSE2 (the baseline there, so no run-time detection) with no
+//!   per-tap checks and the four channels of a voxel in the four lanes; elsewhere the same
+//!   arithmetic in scalar code (with indexed reads).
 
 use volsample::{Ray, StraightU8};
 
