@@ -58,6 +58,10 @@ mod sealed {
 pub trait Termination: sealed::Sealed + Copy + core::fmt::Debug {
     /// `true` once the accumulated opacity `a` is high enough to stop.
     fn done(&self, a: f32) -> bool;
+
+    /// The `A_stop` of [`done`](Self::done) (`done(a)` is `a ≥ A_stop`): `+∞` for [`Never`].
+    #[doc(hidden)]
+    fn a_stop_or_inf(&self) -> f32;
 }
 
 /// Never stop early (`A_stop = 1`): no test in the inner loop.
@@ -69,6 +73,11 @@ impl Termination for Never {
     #[inline(always)]
     fn done(&self, _a: f32) -> bool {
         false
+    }
+
+    #[inline(always)]
+    fn a_stop_or_inf(&self) -> f32 {
+        f32::INFINITY
     }
 }
 
@@ -103,6 +112,11 @@ impl Termination for Threshold {
     #[inline(always)]
     fn done(&self, a: f32) -> bool {
         a >= self.a_stop
+    }
+
+    #[inline(always)]
+    fn a_stop_or_inf(&self) -> f32 {
+        self.a_stop
     }
 }
 

@@ -44,6 +44,11 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
     /// [`RayMarcher::cast`]: crate::RayMarcher::cast
     const PACKETS: bool = true;
 
+    /// `true` for [`Trilinear`]`<`[`WeightedSum`]`>`, the filter of the eight-ray lane kernel
+    /// of [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (feature `avx2`).
+    #[doc(hidden)]
+    const TRILINEAR_WEIGHTED_SUM: bool = false;
+
     /// Reconstructs the quantities `mode` interpolates at `pos` (voxel units).
     fn interpolate<V: Voxel, M: Mode<V>>(
         mode: &M,
@@ -108,6 +113,10 @@ impl Filter for Nearest {
 
 /// The evaluation order of trilinear interpolation (Wittenbrink Table 1).
 pub trait TrilinearOrder: sealed::Sealed + Copy + Default + core::fmt::Debug {
+    /// `true` for [`WeightedSum`].
+    #[doc(hidden)]
+    const WEIGHTED_SUM: bool = false;
+
     /// Interpolates the 8 taps of a cell (tap `i` at corner `(i & 1, (i >> 1) & 1, i >> 2)`)
     /// at fractions `f`.
     fn interpolate<T: Num, V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [T; 3]) -> Interp<T>;
@@ -156,6 +165,8 @@ impl TrilinearOrder for Tree {
 }
 
 impl TrilinearOrder for WeightedSum {
+    const WEIGHTED_SUM: bool = true;
+
     #[inline(always)]
     fn interpolate<T: Num, V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
         mode.weighted(taps, &trilinear_weights(f))
@@ -291,6 +302,7 @@ impl<O: TrilinearOrder> Trilinear<O> {
 
 impl<O: TrilinearOrder> Filter for Trilinear<O> {
     const TAPS: usize = 8;
+    const TRILINEAR_WEIGHTED_SUM: bool = O::WEIGHTED_SUM;
 
     #[inline(always)]
     fn interpolate<V: Voxel, M: Mode<V>>(

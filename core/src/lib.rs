@@ -13,7 +13,8 @@
 //!   termination) or back to front, over a background.
 //! * **Along which rays** — [`ray`] clipping and cameras, [`render`] for whole images, one
 //!   ray at a time (four consecutive samples in [`lanes`] on SIMD targets) or four rays in
-//!   lanes ([`RayMarcher::cast_rays`]); bit-identical either way.
+//!   lanes ([`RayMarcher::cast_rays`]; eight in AVX2 lanes with the feature `avx2` in a build
+//!   for an AVX2 CPU, see [`render::AVX2_PACKETS`]); bit-identical either way.
 //!
 //! Every choice is a type, so a pipeline contains only the stages its scene uses. Inputs are
 //! validated once, at construction, into [`Error`] values; the kernels cannot panic, allocate
@@ -33,6 +34,10 @@
 //! # Ok::<(), volsample::Error>(())
 //! ```
 #![no_std]
+// No `unsafe` anywhere, except the one call into the AVX2 kernel (`lanes8`) in builds with
+// the opt-in feature `avx2`, where the crate denies it everywhere else.
+#![cfg_attr(not(feature = "avx2"), forbid(unsafe_code))]
+#![cfg_attr(feature = "avx2", deny(unsafe_code))]
 #![doc(test(attr(deny(warnings))))]
 
 pub mod classify;
@@ -42,6 +47,8 @@ pub mod error;
 pub mod filter;
 pub mod fixed_point;
 pub mod lanes;
+#[cfg(all(feature = "avx2", target_arch = "x86_64", target_feature = "avx2"))]
+mod lanes8;
 pub mod mode;
 pub mod num;
 pub mod opacity;

@@ -97,6 +97,10 @@ impl Emptiness<StraightU8> for ExtinctionWeightedU8<'_> {
 pub trait Skipping: sealed::Sealed + Copy + core::fmt::Debug {
     /// Whether the sample at `pos` reads only empty voxels.
     fn empty(&self, pos: [f32; 3]) -> bool;
+
+    /// `false` for [`NoSkip`], whose [`empty`](Self::empty) is always `false`.
+    #[doc(hidden)]
+    const SKIPS: bool = true;
 }
 
 /// No empty-space skipping: the marchers' default.
@@ -106,6 +110,8 @@ pub struct NoSkip;
 impl sealed::Sealed for NoSkip {}
 
 impl Skipping for NoSkip {
+    const SKIPS: bool = false;
+
     #[inline(always)]
     fn empty(&self, _pos: [f32; 3]) -> bool {
         false

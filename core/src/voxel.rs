@@ -51,6 +51,21 @@ pub trait Voxel: Copy {
     /// the ray marcher keeps computing the opacity-based trilinear samples one at a time (in
     /// `volsample report` four in lanes ran 1.06–1.13× slower for them). `false` by default.
     const F32_CHANNELS: bool = false;
+
+    /// `true` for straight RGBA bytes read as `n/255` ([`StraightU8`]), whose
+    /// [`rgba8`](Self::rgba8) is the voxel itself: the eight-ray lane kernel of
+    /// [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (feature `avx2`) reads such
+    /// voxels as 32-bit words. A format that sets it must read as
+    /// `StraightVoxel::straight` = `rgba8` bytes over 255, correctly rounded. `false` by
+    /// default.
+    const STRAIGHT_RGBA8: bool = false;
+
+    /// The voxel's `[r, g, b, a]` bytes where [`STRAIGHT_RGBA8`](Self::STRAIGHT_RGBA8) is
+    /// `true`; all zero (never read) otherwise.
+    #[inline(always)]
+    fn rgba8(self) -> [u8; 4] {
+        [0; 4]
+    }
 }
 
 /// A voxel holding straight (unweighted) color and opacity.
@@ -159,8 +174,13 @@ pub struct StraightU8(pub [u8; 4]);
 
 impl Voxel for StraightU8 {
     const TRANSPARENT: Self = Self([0; 4]);
+    const STRAIGHT_RGBA8: bool = true;
     fn check(&self) -> Result<(), VoxelFault> {
         Ok(())
+    }
+    #[inline(always)]
+    fn rgba8(self) -> [u8; 4] {
+        self.0
     }
 }
 

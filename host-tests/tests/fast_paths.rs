@@ -9,7 +9,11 @@
 //! * `cast` (four consecutive samples in lanes) against one sample at a time through
 //!   [`RayMarcher::sample`], and the packets (four rays in lanes) against single rays;
 //! * the integer sampler's interior path and truncating quantization against clamped taps
-//!   and `floor`.
+//!   and `floor`;
+//! * the eight-ray AVX2 packets of `cast_rays` (feature `avx2` in a build for an AVX2 CPU,
+//!   `volsample::render::AVX2_PACKETS`) against `cast`, and the byte conversion they use
+//!   against the library's `n/255` for every byte. With `VOLSAMPLE_EXPECT_AVX2=1` the test
+//!   fails unless that kernel is compiled in (so that CI's AVX2 stage cannot pass vacuously).
 //!
 //! `VOLSAMPLE_FAST_PATH_CASES` sets the number of random cases (default 2000).
 
@@ -596,4 +600,103 @@ fn render_into_is_bit_identical_to_casting_each_pixel() {
         btf.render_into(&persp, w, h, &mut img).unwrap();
         check(&img, &|r| btf.cast(r), &persp);
     }
+}
+
+/// The byte conversion of the AVX2 packets, `(n as f64 · (1/255)) as f32`, is the library's
+/// `unorm8(n)` for every byte, and both are `n/255` correctly rounded: `q·255` is exact in
+/// `f64` (a 24-bit significand times 255), so `|q·255 − n| ≤ 255·ulp(q)/2` is an exact test
+/// that `q` is within half an ulp of `n/255`.
+#[test]
+fn byte_conversion_of_the_avx2_packets_is_the_correctly_rounded_quotient() {
+    for n in 0..=255u8 {
+        let q = volsample::voxel::unorm8(n);
+        assert_eq!(
+            (f64::from(n) * (1.0 / 255.0)) as f32,
+            q,
+            "byte {n}: f64 product against the table"
+        );
+        let ulp = f64::from(f32::from_bits(q.to_bits() + 1) - q);
+        let err = (f64::from(q) * 255.0 - f64::from(n)).abs();
+        assert!(
+            err <= 255.0 * ulp / 2.0,
+            "byte {n}: {q} is not n/255 rounded"
+        );
+    }
+}
+
+/// `cast_rays` (eight rays at a time in AVX2 lanes where compiled in, else four) against
+/// `cast`, bit for bit: `OpacityWeighted` and `Separate` trilinear over `StraightU8`, front to
+/// back with `d = d′`, every termination threshold, with and without a background, on random
+/// volumes (non-cubic, 1-voxel axes included) and random rays (missing, grazing,
+/// axis-aligned), in batches that leave every tail length.
+#[test]
+fn avx2_packets_are_bit_identical_to_single_rays() {
+    if std::env::var_os("VOLSAMPLE_EXPECT_AVX2").is_some() {
+        // `black_box`: the constant is the build's answer, read as a value.
+        assert!(
+            std::hint::black_box(volsample::render::AVX2_PACKETS),
+            "VOLSAMPLE_EXPECT_AVX2 is set but the AVX2 packets are not compiled in"
+        );
+    }
+    let mut rng = Rng(0x0A5C_2000_8BAD_F00D);
+    let bg = Sample {
+        c: [0.1, 0.2, 0.3],
+        a: 0.5,
+    };
+    let mut rays_checked = 0;
+    for case in 0..cases() / 4 {
+        let dims = if case % 5 == 0 {
+            [
+                1 + rng.below(40) as usize,
+                1 + rng.below(40) as usize,
+                1 + rng.below(3) as usize,
+            ]
+        } else {
+            random_dims(&mut rng)
+        };
+        let u8s = random_u8_volume(&mut rng, dims);
+        let d = [0.5, 0.3, 1.0, 0.75][case % 4];
+        let vol = Volume::new(&u8s, dims)
+            .unwrap()
+            .with_reference_distance(d)
+            .unwrap();
+        let step = Step::new(d).unwrap().with_phase(rng.unit() * 0.99).unwrap();
+        let len = 8 * (1 + rng.below(3) as usize) + rng.below(8) as usize;
+        let rays: Vec<Ray> = (0..len).map(|_| random_ray(&mut rng, dims)).collect();
+        let mut out = vec![Sample::TRANSPARENT; len];
+        let mut check = |got: &[Sample], want: &dyn Fn(&Ray) -> Sample, what: &str| {
+            for (ray, g) in rays.iter().zip(got) {
+                let w = want(ray);
+                assert!(
+                    same_sample(g, &w),
+                    "{what}, case {case}: {ray:?}: {g:?} vs {w:?}"
+                );
+            }
+            rays_checked += got.len();
+        };
+        let a_stop = [1.0, 0.9, 0.5, 0.05][rng.below(4) as usize];
+        let stop = FrontToBack(Threshold::new(a_stop).unwrap());
+        macro_rules! both_orders {
+            ($mode:expr, $what:expr) => {{
+                let ftb = FrontToBack::new();
+                let never = RayMarcher::new(vol, $mode, Trilinear::new(), ftb, step).unwrap();
+                assert!(never.correction().is_none());
+                never.cast_rays(&rays, &mut out).unwrap();
+                check(&out, &|r| never.cast(r), concat!($what, ", no termination"));
+                let m = RayMarcher::new(vol, $mode, Trilinear::new(), stop, step)
+                    .unwrap()
+                    .with_background(bg)
+                    .unwrap();
+                m.cast_rays(&rays, &mut out).unwrap();
+                check(
+                    &out,
+                    &|r| m.cast(r),
+                    concat!($what, ", threshold and background"),
+                );
+            }};
+        }
+        both_orders!(OpacityWeighted, "OpacityWeighted");
+        both_orders!(Separate, "Separate");
+    }
+    assert!(rays_checked > 1000, "{rays_checked} rays");
 }

@@ -47,6 +47,14 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     /// [`ExtinctionWeighted`], which integrates over the step itself.
     const OPACITY_BASED: bool;
 
+    /// `true` for [`OpacityWeighted`], one of the two modes the eight-ray lane kernel of
+    /// [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (feature `avx2`) computes.
+    #[doc(hidden)]
+    const OPACITY_WEIGHTED: bool = false;
+    /// `true` for [`Separate`], the other.
+    #[doc(hidden)]
+    const SEPARATE: bool = false;
+
     /// Interpolates `K` taps as a sum of weighted products (weights `w`, summing to 1).
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T>;
 

@@ -47,6 +47,7 @@ impl sealed::Sealed for OpacityWeighted {}
 
 impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
     const OPACITY_BASED: bool = true;
+    const OPACITY_WEIGHTED: bool = true;
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {

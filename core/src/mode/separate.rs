@@ -25,6 +25,7 @@ impl sealed::Sealed for Separate {}
 
 impl<V: StraightVoxel> Mode<V> for Separate {
     const OPACITY_BASED: bool = true;
+    const SEPARATE: bool = true;
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {

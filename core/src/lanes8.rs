@@ -1,0 +1,276 @@
+//! Eight rays in the eight `f32` lanes of AVX2 vectors: the packet kernel of
+//! [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) for `OpacityWeighted` and
+//! `Separate` trilinear (`WeightedSum`) sampling of straight RGBA8 voxels, front to back,
+//! without opacity correction or empty-space skipping.
+//!
+//! Compiled only with the crate feature `avx2` **and** a target with AVX2 enabled at compile
+//! time (`-C target-feature=+avx2`, or `-C target-cpu=native` on such a CPU); elsewhere
+//! `cast_rays` keeps its portable four-ray packets. No `unsafe`: with the feature enabled for
+//! the whole build, the value intrinsics of `core::arch` are safe functions, and the voxels
+//! are read by bounds-checked indexing (eight loads per corner) rather than by a gather
+//! instruction, which takes a raw pointer.
+//!
+//! **Bit-identical to [`RayMarcher::cast`](crate::RayMarcher::cast)** per ray: each lane
+//! performs the one-ray kernel's `f32` operations in the same order — `t = t₀ + j·d`,
+//! `p = o + dir·t`, `⌊p⌋` and the fraction `p − ⌊p⌋`, the taps' coordinates clamped into
+//! the grid, the trilinear weights of `filter::trilinear_weights`, the mode's sums from the
+//! last tap to the first (`ω = w·α`, `Σ ω·C`, `Σ ω` for `OpacityWeighted`; `Σ w·C`, `Σ w·α`
+//! and `C̃ = α·C` for `Separate`), the clamps, and the front-to-back step — with no fused
+//! multiply-add (IEEE `+`, `−`, `×` round the same in any unit). A byte `n` becomes
+//! `(n as f64 · (1/255)) as f32`, which equals the correctly rounded `n/255` of the table the
+//! one-ray kernel reads for every byte (a test in the host suite checks all 256).
+//! `tests/fast_paths.rs` compares `cast_rays` with `cast` bit for bit when the kernel is
+//! compiled in ([`AVX2_PACKETS`](crate::render::AVX2_PACKETS)).
+
+use core::arch::x86_64::*;
+
+use crate::ray::Ray;
+use crate::sample::Sample;
+use crate::volume::Volume;
+use crate::voxel::Voxel;
+
+/// Rays per packet.
+pub(crate) const LANES: usize = 8;
+
+/// Eight `f32` lanes from an array.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn lanes(a: [f32; LANES]) -> __m256 {
+    let [a0, a1, a2, a3, a4, a5, a6, a7] = a;
+    _mm256_setr_ps(a0, a1, a2, a3, a4, a5, a6, a7)
+}
+
+/// The lanes as an array.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn array(v: __m256) -> [f32; LANES] {
+    let w = _mm256_castps_si256(v);
+    [
+        _mm256_extract_epi32::<0>(w),
+        _mm256_extract_epi32::<1>(w),
+        _mm256_extract_epi32::<2>(w),
+        _mm256_extract_epi32::<3>(w),
+        _mm256_extract_epi32::<4>(w),
+        _mm256_extract_epi32::<5>(w),
+        _mm256_extract_epi32::<6>(w),
+        _mm256_extract_epi32::<7>(w),
+    ]
+    .map(|x| f32::from_bits(x as u32))
+}
+
+/// `n/255` per lane for bytes `n` (0..=255), correctly rounded: `n·(1/255)` in `f64` rounds
+/// to the same `f32` as the exact quotient for every byte.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn unorm8(n: __m256i) -> __m256 {
+    let r = _mm256_set1_pd(1.0 / 255.0);
+    let lo = _mm256_cvtpd_ps(_mm256_mul_pd(
+        _mm256_cvtepi32_pd(_mm256_castsi256_si128(n)),
+        r,
+    ));
+    let hi = _mm256_cvtpd_ps(_mm256_mul_pd(
+        _mm256_cvtepi32_pd(_mm256_extracti128_si256::<1>(n)),
+        r,
+    ));
+    _mm256_set_m128(hi, lo)
+}
+
+/// The voxels at eight indices as little-endian RGBA words (the transparent voxel for an
+/// index outside the data, which the clamped indices never are).
+#[inline]
+#[target_feature(enable = "avx2")]
+fn gather<V: Voxel>(data: &[V], at: __m256i) -> __m256i {
+    let word = |i: i32| {
+        let v = data.get(i as usize).copied().unwrap_or(V::TRANSPARENT);
+        i32::from_le_bytes(v.rgba8())
+    };
+    _mm256_setr_epi32(
+        word(_mm256_extract_epi32::<0>(at)),
+        word(_mm256_extract_epi32::<1>(at)),
+        word(_mm256_extract_epi32::<2>(at)),
+        word(_mm256_extract_epi32::<3>(at)),
+        word(_mm256_extract_epi32::<4>(at)),
+        word(_mm256_extract_epi32::<5>(at)),
+        word(_mm256_extract_epi32::<6>(at)),
+        word(_mm256_extract_epi32::<7>(at)),
+    )
+}
+
+/// Whether the kernel can index `vol` with `i32` lanes.
+#[inline(always)]
+pub(crate) fn fits<V: Voxel>(vol: &Volume<'_, V>) -> bool {
+    vol.data().len() <= i32::MAX as usize
+}
+
+/// Marches eight rays front to back, lane `l` over the samples `t₀ + j·d`, `j < n`, with
+/// `(t₀, n) = ranges[l]`, stopping a lane once its `A ≥ a_stop`: the accumulated samples
+/// before the background, bit-identical to the one-ray march of `OpacityWeighted` (or of
+/// `Separate` where `SEPARATE`). `V` must be [`Voxel::STRAIGHT_RGBA8`] and `vol` must
+/// [`fits`].
+#[allow(unsafe_code)]
+pub(crate) fn march8<V: Voxel, const SEPARATE: bool>(
+    vol: &Volume<'_, V>,
+    rays: &[Ray; LANES],
+    ranges: &[(f32, u32); LANES],
+    d: f32,
+    a_stop: f32,
+) -> [Sample; LANES] {
+    // SAFETY: the one `unsafe` of the crate, allowed only in builds with the feature `avx2`.
+    // `march8_avx2` needs a CPU with AVX2; this module is compiled only when the build
+    // enables AVX2 for its target (`cfg(target_feature = "avx2")`), which already lets the
+    // compiler emit AVX2 instructions anywhere in the program, so any CPU that runs this code
+    // has AVX2.
+    unsafe { march8_avx2::<V, SEPARATE>(vol, rays, ranges, d, a_stop) }
+}
+
+/// [`march8`] in AVX2.
+#[target_feature(enable = "avx2")]
+fn march8_avx2<V: Voxel, const SEPARATE: bool>(
+    vol: &Volume<'_, V>,
+    rays: &[Ray; LANES],
+    ranges: &[(f32, u32); LANES],
+    d: f32,
+    a_stop: f32,
+) -> [Sample; LANES] {
+    let data = vol.data();
+    let [nx, ny, nz] = vol.dims().map(|n| n as i32);
+    // Per axis: (origin, direction, last voxel index, `n` as `f32`).
+    let (org, dir) = (
+        rays.each_ref().map(Ray::origin),
+        rays.each_ref().map(Ray::dir),
+    );
+    let axis = |o: [f32; LANES], d: [f32; LANES], n: i32| {
+        (
+            lanes(o),
+            lanes(d),
+            _mm256_set1_epi32(n - 1),
+            _mm256_set1_ps(n as f32),
+        )
+    };
+    let axes = [
+        axis(org.map(|o| o[0]), dir.map(|d| d[0]), nx),
+        axis(org.map(|o| o[1]), dir.map(|d| d[1]), ny),
+        axis(org.map(|o| o[2]), dir.map(|d| d[2]), nz),
+    ];
+    let t0 = lanes(ranges.map(|r| r.0));
+    let count = ranges.map(|r| r.1);
+    let steps = count.iter().copied().max().unwrap_or(0);
+    let [c0, c1, c2, c3, c4, c5, c6, c7] = count.map(|c| c as i32);
+    let count = _mm256_setr_epi32(c0, c1, c2, c3, c4, c5, c6, c7);
+
+    let dv = _mm256_set1_ps(d);
+    let stop = _mm256_set1_ps(a_stop);
+    let one = _mm256_set1_ps(1.0);
+    let zf = _mm256_setzero_ps();
+    let zero = _mm256_setzero_si256();
+    let byte = _mm256_set1_epi32(0xff);
+    // `⌊p⌋` is limited to `[−1, n]` before the conversion (the clamp below maps both ends to
+    // the edge), so no coordinate overflows an `i32` lane.
+    let lo_f = _mm256_set1_ps(-1.0);
+    let ione = _mm256_set1_epi32(1);
+    let (sx, sy) = (_mm256_set1_epi32(nx), _mm256_set1_epi32(nx * ny));
+
+    let (mut ar, mut ag, mut ab, mut aa) = (zf, zf, zf, zf);
+    // Lanes still compositing: before their last sample and not yet stopped.
+    let mut live = _mm256_castsi256_ps(_mm256_cmpgt_epi32(count, zero));
+    let mut j = 0u32;
+    while j < steps && _mm256_movemask_ps(live) != 0 {
+        // The sample position, as `Ray::at(t_first + j·d)`.
+        let t = _mm256_add_ps(t0, _mm256_mul_ps(_mm256_set1_ps(j as f32), dv));
+        // Per axis: the fraction `p − ⌊p⌋` and the two tap coordinates clamped into the grid.
+        let split = |(o, d, last, n): (__m256, __m256, __m256i, __m256)| {
+            let p = _mm256_add_ps(o, _mm256_mul_ps(d, t));
+            let fl = _mm256_floor_ps(p);
+            let i = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(fl, lo_f), n));
+            let c = |i| _mm256_min_epi32(_mm256_max_epi32(i, zero), last);
+            (_mm256_sub_ps(p, fl), c(i), c(_mm256_add_epi32(i, ione)))
+        };
+        let [(fx, x0, x1), (fy, y0, y1), (fz, z0, z1)] = axes.map(split);
+        let row = |y, z| _mm256_add_epi32(_mm256_mullo_epi32(y, sx), _mm256_mullo_epi32(z, sy));
+        let (r00, r10, r01, r11) = (row(y0, z0), row(y1, z0), row(y0, z1), row(y1, z1));
+        let at = [
+            _mm256_add_epi32(x0, r00),
+            _mm256_add_epi32(x1, r00),
+            _mm256_add_epi32(x0, r10),
+            _mm256_add_epi32(x1, r10),
+            _mm256_add_epi32(x0, r01),
+            _mm256_add_epi32(x1, r01),
+            _mm256_add_epi32(x0, r11),
+            _mm256_add_epi32(x1, r11),
+        ];
+
+        // `filter::trilinear_weights`, operation for operation.
+        let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
+        let xy = mul(fx, fy);
+        let xz = mul(fx, fz);
+        let yz = mul(fy, fz);
+        let xyz = mul(xy, fz);
+        let w110 = sub(xy, xyz);
+        let w101 = sub(xz, xyz);
+        let w011 = sub(yz, xyz);
+        let w100 = add(sub(sub(fx, xy), xz), xyz);
+        let w010 = add(sub(sub(fy, xy), yz), xyz);
+        let w001 = add(sub(sub(fz, xz), yz), xyz);
+        let rest = add(
+            add(add(add(add(add(xyz, w011), w101), w001), w110), w010),
+            w100,
+        );
+        let w000 = sub(one, rest);
+        let w = [w000, w100, w010, w110, w001, w101, w011, xyz];
+
+        // The sums from the last tap down (`mode::dot`): `OpacityWeighted` weights the colors
+        // and sums by `ω = w·α` (then `α = Σ ω`); `Separate` sums `w·C` and `w·α`.
+        let mut s = [zf; 4];
+        for (k, (&wk, &at)) in w.iter().zip(at.iter()).enumerate().rev() {
+            let g = gather(data, at);
+            let r = unorm8(_mm256_and_si256(g, byte));
+            let gr = unorm8(_mm256_and_si256(_mm256_srli_epi32::<8>(g), byte));
+            let b = unorm8(_mm256_and_si256(_mm256_srli_epi32::<16>(g), byte));
+            let a = unorm8(_mm256_srli_epi32::<24>(g));
+            let (wc, wa) = if SEPARATE {
+                (wk, mul(wk, a))
+            } else {
+                let om = mul(wk, a);
+                (om, om)
+            };
+            s = if k == 7 {
+                [mul(wc, r), mul(wc, gr), mul(wc, b), wa]
+            } else {
+                [
+                    add(s[0], mul(wc, r)),
+                    add(s[1], mul(wc, gr)),
+                    add(s[2], mul(wc, b)),
+                    add(s[3], wa),
+                ]
+            };
+        }
+        // `Sample::clamped`: `α` into [0, 1] (NaN to 0), each color into [0, α]; `Separate`
+        // first weights the colors by the clamped `α` (its `finish`).
+        let a = _mm256_min_ps(_mm256_max_ps(s[3], zf), one);
+        let c = if SEPARATE {
+            [mul(s[0], a), mul(s[1], a), mul(s[2], a)]
+        } else {
+            [s[0], s[1], s[2]]
+        };
+        let [cr, cg, cb] = c.map(|c| _mm256_min_ps(_mm256_max_ps(c, zf), a));
+
+        // `front_to_back`, kept in the live lanes only.
+        let tr = sub(one, aa);
+        ar = _mm256_blendv_ps(ar, add(ar, mul(tr, cr)), live);
+        ag = _mm256_blendv_ps(ag, add(ag, mul(tr, cg)), live);
+        ab = _mm256_blendv_ps(ab, add(ab, mul(tr, cb)), live);
+        aa = _mm256_blendv_ps(aa, add(aa, mul(tr, a)), live);
+
+        j += 1;
+        // A lane stops after its last sample, or once `A ≥ A_stop` (`Termination::done`).
+        let more = _mm256_castsi256_ps(_mm256_cmpgt_epi32(count, _mm256_set1_epi32(j as i32)));
+        let done = _mm256_cmp_ps::<_CMP_GE_OQ>(aa, stop);
+        live = _mm256_andnot_ps(done, _mm256_and_ps(live, more));
+    }
+    let [r, g, b, a] = [array(ar), array(ag), array(ab), array(aa)];
+    let mut out = [Sample::TRANSPARENT; LANES];
+    for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
+        *o = Sample { c: [r, g, b], a };
+    }
+    out
+}
