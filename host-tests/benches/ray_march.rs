@@ -19,13 +19,18 @@
 //!
 //! Packets: the `_packets` rows and passes march the same rays four at a time
 //! ([`RayMarcher::cast_rays`], bit-identical per ray to `cast`), the others one at a time.
+//! Built with the feature `avx2` for an AVX2 CPU (`RUSTFLAGS="-C target-feature=+avx2" cargo
+//! bench -p volsample-host --features avx2 --bench ray_march`), the `OpacityWeighted` and
+//! `Separate` packets march eight rays at a time in AVX2 lanes (`render::AVX2_PACKETS`).
 //!
-//! Yardsticks: the `yardstick_` rows and the last two passes march the same samples with
+//! Yardsticks: the `yardstick_` rows and the last three passes march the same samples with
 //! loops that are not volsample (`volsample_host::yardstick`): a hand-tuned one (SSE2 on
-//! x86-64, byte units, no per-tap checks, not bit-identical to the library) and a
-//! naive one. They say what a hand-written kernel gets from the machine at hand, in the same
-//! run and under the same load; the issue's ≤ 5 ns/sample target was set where a hand-tuned
-//! probe ran at about 6 ns.
+//! x86-64, byte units, no per-tap checks, not bit-identical to the library), a naive one,
+//! and the hand-tuned one across rays (`tuned_rays`: eight rays in AVX2 lanes with gathers
+//! where the CPU has AVX2 and FMA, else one ray at a time; the pass's name says which ran).
+//! They say what a hand-written kernel gets from the machine at hand, in the same run and
+//! under the same load; the issue's ≤ 5 ns/sample target was set where a hand-tuned probe
+//! ran at about 6 ns.
 //!
 //! Every row consumes all four channels of every pixel (a sum of `α` and `C̃`), so no
 //! arithmetic can be dropped as unused.
@@ -171,7 +176,17 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
             .map(|(r, &(t, k))| f(v256, 256, r, t, k, D).iter().sum::<f32>())
             .sum()
     };
-    let passes: [(&str, &dyn Fn() -> f32); 12] = [
+    let across = RefCell::new(vec![[0.0f32; 4]; rays.len()]);
+    let yard_rays = || {
+        let mut o = across.borrow_mut();
+        yardstick::tuned_rays(v256, 256, rays, &ranges, D, &mut o);
+        o.iter().map(|p| p.iter().sum::<f32>()).sum()
+    };
+    let rays_name = format!(
+        "yardstick: hand-tuned, {} ray(s)/pass (not volsample)",
+        yardstick::tuned_rays_lanes()
+    );
+    let passes: [(&str, &dyn Fn() -> f32); 13] = [
         ("OpacityWeighted f32", &|| {
             rays.iter().map(|r| all_channels(ow.cast(r))).sum()
         }),
@@ -213,13 +228,14 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         ("yardstick: naive loop (not volsample)", &|| {
             yard(yardstick::naive)
         }),
+        (&rays_name, &yard_rays),
     ];
     // Round `k` starts with pass `k mod (number of passes)`, so every pass takes every place in the order
     // equally often and an effect of the place (of the passes run just before) is spread
     // over all of them instead of falling on one.
     let mut per = vec![Vec::new(); passes.len()];
     for round in 0..rounds {
-        let mut t = [0.0f64; 12];
+        let mut t = [0.0f64; 13];
         for k in 0..passes.len() {
             let i = (round + k) % passes.len();
             t[i] = time(passes[i].1);
@@ -346,6 +362,15 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+
+    // The hand-tuned loop across rays (eight in AVX2 lanes where the CPU has them).
+    let mut across = vec![[0.0f32; 4]; rays256.len()];
+    g.bench_function("yardstick_tuned_rays_256", |b| {
+        b.iter(|| {
+            yardstick::tuned_rays(&v256, 256, &rays256, &ranges, D, &mut across);
+            black_box(across.iter().map(|p| p.iter().sum::<f32>()).sum::<f32>())
+        })
+    });
 
     let sep = RayMarcher::new(vol, Separate, Trilinear::new(), FrontToBack::new(), step).unwrap();
     g.bench_function("separate_f32_u8_256", |b| {
