@@ -5,10 +5,11 @@
 //!
 //! Compiled only with the crate feature `avx2` **and** a target with AVX2 enabled at compile
 //! time (`-C target-feature=+avx2`, or `-C target-cpu=native` on such a CPU); elsewhere
-//! `cast_rays` keeps its portable four-ray packets. No `unsafe`: with the feature enabled for
-//! the whole build, the value intrinsics of `core::arch` are safe functions, and the voxels
-//! are read by bounds-checked indexing (eight loads per corner) rather than by a gather
-//! instruction, which takes a raw pointer.
+//! `cast_rays` keeps its portable four-ray packets. One `unsafe` call enters the kernel (see
+//! [`march8`]); inside it, a `#[target_feature(enable = "avx2")]` function, the value
+//! intrinsics of `core::arch` are safe functions, and the voxels are read by bounds-checked
+//! indexing (eight loads per corner) rather than by a gather instruction, which takes a raw
+//! pointer.
 //!
 //! **Bit-identical to [`RayMarcher::cast`](crate::RayMarcher::cast)** per ray: each lane
 //! performs the one-ray kernel's `f32` operations in the same order — `t = t₀ + j·d`,

@@ -444,8 +444,8 @@ where
 
     /// Where the eight-ray AVX2 kernel applies ([`AVX2_PACKETS`] and an `OpacityWeighted` or
     /// `Separate`, `Trilinear<WeightedSum>`, straight-RGBA8, front-to-back marcher without
-    /// correction or skipping), casts the leading multiple of eight rays with it and returns the rest;
-    /// otherwise returns all of them.
+    /// correction or skipping), casts the leading multiple of eight rays with it and returns
+    /// the rest; otherwise returns all of them.
     #[cfg(all(feature = "avx2", target_arch = "x86_64", target_feature = "avx2"))]
     fn cast_rays8<'r, 'o>(
         &self,
@@ -461,11 +461,11 @@ where
             && !S::SKIPS
             && self.correction.is_none()
             && fits(&self.volume);
-        // `cast_rays` checked that `out` is as long as `rays`.
-        let whole = rays.len() / LANES * LANES;
+        // (`cast_rays` checked that `out` is as long as `rays`.)
         if !applies || out.len() != rays.len() {
             return (rays, out);
         }
+        let whole = rays.len() / LANES * LANES;
         let (r8, rest) = rays.split_at(whole);
         let (o8, out_rest) = out.split_at_mut(whole);
         let a_stop = self.order.termination().a_stop_or_inf();
@@ -611,8 +611,8 @@ where
 
 /// Whether [`RayMarcher::cast_rays`] marches eight rays at once in AVX2 lanes (the module
 /// `lanes8`, bit-identical to [`RayMarcher::cast`]) for `OpacityWeighted` and `Separate`
-/// trilinear (`WeightedSum`) sampling of [`StraightU8`](crate::StraightU8) voxels front to back without
-/// opacity correction or skipping: `true` when the crate feature `avx2` is on **and** the
+/// trilinear (`WeightedSum`) sampling of [`StraightU8`](crate::StraightU8) voxels front to
+/// back without opacity correction or skipping: `true` when the crate feature `avx2` is on **and** the
 /// build targets a CPU with AVX2 (`-C target-feature=+avx2`, or `-C target-cpu=native` on
 /// such a CPU). The rays beyond the last multiple of eight, and every other configuration,
 /// take the four-ray packets.
