@@ -14,14 +14,14 @@ use volsample_host::yardstick::{naive, tuned, tuned_rays, tuned_rays_lanes, YARD
 const N: usize = 32;
 const D: f32 = 0.5;
 
-/// The bench's voxel formula, transparent in the outer two layers.
-fn volume() -> Vec<StraightU8> {
+/// The bench's voxel formula; transparent in the outer two layers where `shell`.
+fn volume(shell: bool) -> Vec<StraightU8> {
     let mut v = Vec::with_capacity(N * N * N);
     for z in 0..N {
         for y in 0..N {
             for x in 0..N {
-                let shell = [x, y, z].iter().any(|c| !(2..N - 2).contains(c));
-                let a = if shell {
+                let outer = [x, y, z].iter().any(|c| !(2..N - 2).contains(c));
+                let a = if shell && outer {
                     0
                 } else {
                     4 + (7 * x + 13 * y + 29 * z) % 61
@@ -38,21 +38,30 @@ fn volume() -> Vec<StraightU8> {
     v
 }
 
-#[test]
-fn yardsticks_agree_with_the_library() {
-    let v = volume();
-    let vol = Volume::new(&v, [N; 3])
+/// volsample's marcher of the work the yardsticks do: `OpacityWeighted` trilinear, front to
+/// back, `d = d′ = D`.
+fn marcher(
+    v: &[StraightU8],
+) -> RayMarcher<'_, StraightU8, OpacityWeighted, Trilinear, FrontToBack> {
+    let vol = Volume::new(v, [N; 3])
         .unwrap()
         .with_reference_distance(D)
         .unwrap();
-    let m = RayMarcher::new(
+    let step = Step::new(D).unwrap();
+    RayMarcher::new(
         vol,
         OpacityWeighted,
         Trilinear::new(),
         FrontToBack::new(),
-        Step::new(D).unwrap(),
+        step,
     )
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn yardsticks_agree_with_the_library() {
+    let v = volume(true);
+    let m = marcher(&v);
     // 67 rays: eight packets of eight and a remainder of three for `tuned_rays`.
     let rays: Vec<Ray> = (0..67)
         .map(|k| {
@@ -104,25 +113,8 @@ fn yardsticks_agree_with_the_library() {
 /// that went on compositing after its ray ended would show.
 #[test]
 fn across_rays_stop_each_ray_at_its_end() {
-    let v: Vec<StraightU8> = (0..N * N * N)
-        .map(|k| {
-            let (x, y, z) = (k % N, k / N % N, k / (N * N));
-            let a = 4 + (7 * x + 13 * y + 29 * z) % 61;
-            StraightU8([(8 * x) as u8, (8 * y) as u8, (8 * z) as u8, a as u8])
-        })
-        .collect();
-    let vol = Volume::new(&v, [N; 3])
-        .unwrap()
-        .with_reference_distance(D)
-        .unwrap();
-    let m = RayMarcher::new(
-        vol,
-        OpacityWeighted,
-        Trilinear::new(),
-        FrontToBack::new(),
-        Step::new(D).unwrap(),
-    )
-    .unwrap();
+    let v = volume(false);
+    let m = marcher(&v);
     let rays: Vec<Ray> = (0..21)
         .map(|k| {
             if k == 5 {
