@@ -3,10 +3,11 @@
 //! `Separate` trilinear (`WeightedSum`) sampling of straight RGBA8 voxels, front to back,
 //! without opacity correction or empty-space skipping.
 //!
-//! Compiled only with the crate feature `avx2` **and** a target with AVX2 enabled at compile
-//! time (`-C target-feature=+avx2`, or `-C target-cpu=native` on such a CPU); elsewhere
+//! Compiled only with the crate feature `avx2` **and** a target with AVX2 and FMA enabled at
+//! compile time (`-C target-feature=+avx2,+fma`, or `-C target-cpu=native` on such a CPU;
+//! every AVX2 CPU of Intel and AMD has FMA); elsewhere
 //! `cast_rays` keeps its portable four-ray packets. One `unsafe` call enters the kernel (see
-//! [`march8`]); inside it, a `#[target_feature(enable = "avx2")]` function, the value
+//! [`march8`]); inside it, a `#[target_feature(enable = "avx2,fma")]` function, the value
 //! intrinsics of `core::arch` are safe functions, and the voxels are read by bounds-checked
 //! indexing (eight loads per corner) rather than by a gather instruction, which takes a raw
 //! pointer.
@@ -17,9 +18,11 @@
 //! the grid, the trilinear weights of `filter::trilinear_weights`, the mode's sums from the
 //! last tap to the first (`ω = w·α`, `Σ ω·C`, `Σ ω` for `OpacityWeighted`; `Σ w·C`, `Σ w·α`
 //! and `C̃ = α·C` for `Separate`), the clamps, and the front-to-back step — with no fused
-//! multiply-add (IEEE `+`, `−`, `×` round the same in any unit). A byte `n` becomes
-//! `(n as f64 · (1/255)) as f32`, which equals the correctly rounded `n/255` of the table the
-//! one-ray kernel reads for every byte (a test in the host suite checks all 256).
+//! multiply-add (IEEE `+`, `−`, `×` round the same in any unit). A byte `n` becomes the
+//! correctly rounded `n/255` of the table the one-ray kernel reads by one refinement step:
+//! `q = n·r` with `r = 1/255` rounded, `e = n − 255·q` (exact in one fused multiply-add),
+//! `q + e·r` (one more), which is the rounded quotient for every byte (a test in the host suite
+//! checks all 256).
 //! `tests/fast_paths.rs` compares `cast_rays` with `cast` bit for bit when the kernel is
 //! compiled in ([`AVX2_PACKETS`](crate::render::AVX2_PACKETS)).
 
@@ -35,7 +38,7 @@ pub(crate) const LANES: usize = 8;
 
 /// Eight `f32` lanes from an array.
 #[inline]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 fn lanes(a: [f32; LANES]) -> __m256 {
     let [a0, a1, a2, a3, a4, a5, a6, a7] = a;
     _mm256_setr_ps(a0, a1, a2, a3, a4, a5, a6, a7)
@@ -43,7 +46,7 @@ fn lanes(a: [f32; LANES]) -> __m256 {
 
 /// The lanes as an array.
 #[inline]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 fn array(v: __m256) -> [f32; LANES] {
     let w = _mm256_castps_si256(v);
     [
@@ -59,27 +62,22 @@ fn array(v: __m256) -> [f32; LANES] {
     .map(|x| f32::from_bits(x as u32))
 }
 
-/// `n/255` per lane for bytes `n` (0..=255), correctly rounded: `n·(1/255)` in `f64` rounds
-/// to the same `f32` as the exact quotient for every byte.
+/// `n/255` per lane for bytes `n` (0..=255), correctly rounded: the product `q = n·r` with
+/// `r = 1/255` rounded, refined once by its exact residual `e = n − 255·q` to `q + e·r`.
 #[inline]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 fn unorm8(n: __m256i) -> __m256 {
-    let r = _mm256_set1_pd(1.0 / 255.0);
-    let lo = _mm256_cvtpd_ps(_mm256_mul_pd(
-        _mm256_cvtepi32_pd(_mm256_castsi256_si128(n)),
-        r,
-    ));
-    let hi = _mm256_cvtpd_ps(_mm256_mul_pd(
-        _mm256_cvtepi32_pd(_mm256_extracti128_si256::<1>(n)),
-        r,
-    ));
-    _mm256_set_m128(hi, lo)
+    let r = _mm256_set1_ps(1.0 / 255.0);
+    let n = _mm256_cvtepi32_ps(n);
+    let q = _mm256_mul_ps(n, r);
+    let e = _mm256_fnmadd_ps(q, _mm256_set1_ps(255.0), n);
+    _mm256_fmadd_ps(e, r, q)
 }
 
 /// The voxels at eight indices as little-endian RGBA words (the transparent voxel for an
 /// index outside the data, which the clamped indices never are).
 #[inline]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 fn gather<V: Voxel>(data: &[V], at: __m256i) -> __m256i {
     let word = |i: i32| {
         let v = data.get(i as usize).copied().unwrap_or(V::TRANSPARENT);
@@ -117,15 +115,15 @@ pub(crate) fn march8<V: Voxel, const SEPARATE: bool>(
     a_stop: f32,
 ) -> [Sample; LANES] {
     // SAFETY: the one `unsafe` of the crate, allowed only in builds with the feature `avx2`.
-    // `march8_avx2` needs a CPU with AVX2; this module is compiled only when the build
-    // enables AVX2 for its target (`cfg(target_feature = "avx2")`), which already lets the
-    // compiler emit AVX2 instructions anywhere in the program, so any CPU that runs this code
-    // has AVX2.
+    // `march8_avx2` needs a CPU with AVX2 and FMA; this module is compiled only when the build
+    // enables AVX2 and FMA for its target (`cfg(target_feature = "avx2")`, `"fma"`), which
+    // already lets the compiler emit those instructions anywhere in the program, so any CPU
+    // that runs this code has them.
     unsafe { march8_avx2::<V, SEPARATE>(vol, rays, ranges, d, a_stop) }
 }
 
 /// [`march8`] in AVX2.
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 fn march8_avx2<V: Voxel, const SEPARATE: bool>(
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],

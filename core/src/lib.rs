@@ -47,7 +47,12 @@ pub mod error;
 pub mod filter;
 pub mod fixed_point;
 pub mod lanes;
-#[cfg(all(feature = "avx2", target_arch = "x86_64", target_feature = "avx2"))]
+#[cfg(all(
+    feature = "avx2",
+    target_arch = "x86_64",
+    target_feature = "avx2",
+    target_feature = "fma"
+))]
 mod lanes8;
 pub mod mode;
 pub mod num;

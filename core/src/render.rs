@@ -446,7 +446,12 @@ where
     /// `Separate`, `Trilinear<WeightedSum>`, straight-RGBA8, front-to-back marcher without
     /// correction or skipping), casts the leading multiple of eight rays with it and returns
     /// the rest; otherwise returns all of them.
-    #[cfg(all(feature = "avx2", target_arch = "x86_64", target_feature = "avx2"))]
+    #[cfg(all(
+        feature = "avx2",
+        target_arch = "x86_64",
+        target_feature = "avx2",
+        target_feature = "fma"
+    ))]
     fn cast_rays8<'r, 'o>(
         &self,
         rays: &'r [Ray],
@@ -486,7 +491,12 @@ where
     }
 
     /// Without the eight-ray kernel: all of `rays` go to the four-ray packets.
-    #[cfg(not(all(feature = "avx2", target_arch = "x86_64", target_feature = "avx2")))]
+    #[cfg(not(all(
+        feature = "avx2",
+        target_arch = "x86_64",
+        target_feature = "avx2",
+        target_feature = "fma"
+    )))]
     #[inline(always)]
     fn cast_rays8<'r, 'o>(
         &self,
@@ -612,14 +622,15 @@ where
 /// Whether [`RayMarcher::cast_rays`] marches eight rays at once in AVX2 lanes (the module
 /// `lanes8`, bit-identical to [`RayMarcher::cast`]) for `OpacityWeighted` and `Separate`
 /// trilinear (`WeightedSum`) sampling of [`StraightU8`](crate::StraightU8) voxels front to
-/// back without opacity correction or skipping: `true` when the crate feature `avx2` is on **and** the
-/// build targets a CPU with AVX2 (`-C target-feature=+avx2`, or `-C target-cpu=native` on
-/// such a CPU). The rays beyond the last multiple of eight, and every other configuration,
-/// take the four-ray packets.
+/// back without opacity correction or skipping: `true` when the crate feature `avx2` is on
+/// **and** the build targets a CPU with AVX2 and FMA (`-C target-feature=+avx2,+fma`, or
+/// `-C target-cpu=native` on such a CPU). The rays beyond the last multiple of eight, and
+/// every other configuration, take the four-ray packets.
 pub const AVX2_PACKETS: bool = cfg!(all(
     feature = "avx2",
     target_arch = "x86_64",
-    target_feature = "avx2"
+    target_feature = "avx2",
+    target_feature = "fma"
 ));
 
 /// Whether [`RayMarcher::cast`] marches front-to-back rays four consecutive samples at a time

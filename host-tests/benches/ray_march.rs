@@ -19,8 +19,8 @@
 //!
 //! Packets: the `_packets` rows and passes march the same rays four at a time
 //! ([`RayMarcher::cast_rays`], bit-identical per ray to `cast`), the others one at a time.
-//! Built with the feature `avx2` for an AVX2 CPU (`RUSTFLAGS="-C target-feature=+avx2" cargo
-//! bench -p volsample-host --features avx2 --bench ray_march`), the `OpacityWeighted` and
+//! Built with the feature `avx2` for an AVX2 CPU (`RUSTFLAGS="-C target-feature=+avx2,+fma"
+//! cargo bench -p volsample-host --features avx2 --bench ray_march`), the `OpacityWeighted` and
 //! `Separate` packets march eight rays at a time in AVX2 lanes (`render::AVX2_PACKETS`).
 //!
 //! Yardsticks: the `yardstick_` rows and the last three passes march the same samples with
