@@ -34,8 +34,9 @@
 //! # Ok::<(), volsample::Error>(())
 //! ```
 #![no_std]
-// No `unsafe` anywhere, except the one call into the AVX2 kernel (`lanes8`) in builds with
-// the opt-in feature `avx2`, where the crate denies it everywhere else.
+// No `unsafe` anywhere, except in the AVX2 kernel (`lanes8`: its entry, two bit casts and
+// the voxel loads after their bounds test) in builds with the opt-in feature `avx2`, where
+// the crate denies it everywhere else.
 #![cfg_attr(not(feature = "avx2"), forbid(unsafe_code))]
 #![cfg_attr(feature = "avx2", deny(unsafe_code))]
 #![doc(test(attr(deny(warnings))))]
