@@ -457,17 +457,10 @@ where
         rays: &'r [Ray],
         out: &'o mut [Sample],
     ) -> (&'r [Ray], &'o mut [Sample]) {
-        use crate::lanes8::{fits, march8, LANES};
-        let (ow, separate) = (<M as Mode<V>>::OPACITY_WEIGHTED, <M as Mode<V>>::SEPARATE);
-        let applies = V::STRAIGHT_RGBA8
-            && (ow || separate)
-            && F::TRILINEAR_WEIGHTED_SUM
-            && O::FRONT_TO_BACK
-            && !S::SKIPS
-            && self.correction.is_none()
-            && fits(&self.volume);
+        use crate::lanes8::{march8, LANES};
+        let separate = <M as Mode<V>>::SEPARATE;
         // (`cast_rays` checked that `out` is as long as `rays`.)
-        if !applies || out.len() != rays.len() {
+        if !self.eight_ray_packets() || out.len() != rays.len() {
             return (rays, out);
         }
         let whole = rays.len() / LANES * LANES;
@@ -488,6 +481,37 @@ where
             }
         }
         (rest, out_rest)
+    }
+
+    /// Whether the eight-ray AVX2 kernel applies to this marcher ([`AVX2_PACKETS`] and an
+    /// `OpacityWeighted` or `Separate`, `Trilinear<WeightedSum>`, straight-RGBA8,
+    /// front-to-back marcher without correction or skipping, over a volume it can index).
+    #[inline]
+    fn eight_ray_packets(&self) -> bool {
+        #[cfg(all(
+            feature = "avx2",
+            target_arch = "x86_64",
+            target_feature = "avx2",
+            target_feature = "fma"
+        ))]
+        {
+            V::STRAIGHT_RGBA8
+                && (<M as Mode<V>>::OPACITY_WEIGHTED || <M as Mode<V>>::SEPARATE)
+                && F::TRILINEAR_WEIGHTED_SUM
+                && O::FRONT_TO_BACK
+                && !S::SKIPS
+                && self.correction.is_none()
+                && crate::lanes8::fits(&self.volume)
+        }
+        #[cfg(not(all(
+            feature = "avx2",
+            target_arch = "x86_64",
+            target_feature = "avx2",
+            target_feature = "fma"
+        )))]
+        {
+            false
+        }
     }
 
     /// Without the eight-ray kernel: all of `rays` go to the four-ray packets.
@@ -602,8 +626,10 @@ where
     }
 
     /// Renders a `width × height` image (row-major, row 0 at the top) into `image`, one ray at
-    /// a time. (For many similar rays, [`cast_rays`](Self::cast_rays) marches four at a time,
-    /// bit-identically; whether that is faster depends on the rays, see its documentation.)
+    /// a time — or, where the eight-ray AVX2 kernel of [`cast_rays`](Self::cast_rays) applies
+    /// ([`AVX2_PACKETS`] and such a marcher), eight pixels of a row at a time with it; every
+    /// pixel is `cast` of its ray, bit for bit, either way. (The four-ray packets of other
+    /// builds did not pay here, see `cast_rays`.)
     ///
     /// # Errors
     /// [`Error::EmptyImage`] for a zero width or height, [`Error::ImageSizeMismatch`] unless
@@ -615,7 +641,21 @@ where
         height: usize,
         image: &mut [Sample],
     ) -> Result<(), Error> {
-        trace_image(camera, width, height, image, |ray| self.cast(ray))
+        if !self.eight_ray_packets() {
+            return trace_image(camera, width, height, image, |ray| self.cast(ray));
+        }
+        check_image(width, height, image.len())?;
+        for (j, row) in image.chunks_exact_mut(width).enumerate() {
+            for (k, px) in row.chunks_mut(8).enumerate() {
+                let i0 = 8 * k;
+                // A short last chunk repeats its last pixel's ray; only `px.len()` are cast.
+                let rays: [Ray; 8] =
+                    core::array::from_fn(|l| camera.ray((i0 + l).min(width - 1), j, width, height));
+                let rays = rays.get(..px.len()).unwrap_or(&rays);
+                self.cast_rays(rays, px)?;
+            }
+        }
+        Ok(())
     }
 }
 

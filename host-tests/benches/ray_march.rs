@@ -21,7 +21,8 @@
 //! ([`RayMarcher::cast_rays`], bit-identical per ray to `cast`), the others one at a time.
 //! Built with the feature `avx2` for an AVX2 CPU (`RUSTFLAGS="-C target-feature=+avx2,+fma"
 //! cargo bench -p volsample-host --features avx2 --bench ray_march`), the `OpacityWeighted` and
-//! `Separate` packets march eight rays at a time in AVX2 lanes (`render::AVX2_PACKETS`).
+//! `Separate` packets march eight rays at a time in AVX2 lanes (`render::AVX2_PACKETS`), and
+//! so does `render_into` (the `_render_into` row; one ray at a time in other builds).
 //!
 //! Yardsticks: the `yardstick_` rows and the last three passes march the same samples with
 //! loops that are not volsample (`volsample_host::yardstick`): a hand-tuned one (SSE2 on
@@ -604,6 +605,14 @@ fn bench(c: &mut Criterion) {
         let mut pout = vec![Sample::TRANSPARENT; prays.len()];
         g.bench_function("ow_f32_u8_32_perspective_packets", |b| {
             b.iter(|| black_box(packets(&ow32, &prays, &mut pout)))
+        });
+        // `render_into` of the same view (one ray at a time, or eight-ray packets where the
+        // AVX2 kernel applies).
+        g.bench_function("ow_f32_u8_32_perspective_render_into", |b| {
+            b.iter(|| {
+                ow32.render_into(&cam, 64, 64, &mut pout).unwrap();
+                black_box(pout.iter().map(|&p| all_channels(p)).sum::<f32>())
+            })
         });
     }
 

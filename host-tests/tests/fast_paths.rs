@@ -578,9 +578,47 @@ fn render_into_is_bit_identical_to_casting_each_pixel() {
     )
     .unwrap();
     let btf = RayMarcher::new(vol, Separate, Trilinear::new(), BackToFront, step).unwrap();
+    // Front to back with `d = d′` (no correction), with and without a stop and background:
+    // the eight-ray AVX2 packets in builds that have them (rows of 8, 16, 17 and 24 pixels
+    // fill whole packets and leave remainders).
+    let vol_d = vol.with_reference_distance(0.37).unwrap();
+    let ow = RayMarcher::new(
+        vol_d,
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap();
+    assert!(ow.correction().is_none());
+    let sep = RayMarcher::new(
+        vol_d,
+        Separate,
+        Trilinear::new(),
+        FrontToBack(Threshold::new(0.9).unwrap()),
+        step,
+    )
+    .unwrap()
+    .with_background(Sample {
+        c: [0.25, 0.5, 0.75],
+        a: 1.0,
+    })
+    .unwrap();
     let ortho = Orthographic::looking_down_z(dims).unwrap();
     let persp = Perspective::new([2.0, 1.5, -6.0], [2.0, 1.5, 2.5], [0.0, 1.0, 0.0], 0.9).unwrap();
-    for (w, h) in [(1, 1), (3, 2), (4, 3), (5, 1), (7, 4), (9, 2)] {
+    let sizes = [
+        (1, 1),
+        (3, 2),
+        (4, 3),
+        (5, 1),
+        (7, 4),
+        (9, 2),
+        (8, 3),
+        (16, 2),
+        (17, 3),
+        (24, 5),
+    ];
+    for (w, h) in sizes {
         let mut img = vec![Sample::TRANSPARENT; w * h];
         let check = |img: &[Sample], cast: &dyn Fn(&Ray) -> Sample, cam: &dyn Camera| {
             for j in 0..h {
@@ -599,6 +637,12 @@ fn render_into_is_bit_identical_to_casting_each_pixel() {
         check(&img, &|r| ftb.cast(r), &persp);
         btf.render_into(&persp, w, h, &mut img).unwrap();
         check(&img, &|r| btf.cast(r), &persp);
+        ow.render_into(&persp, w, h, &mut img).unwrap();
+        check(&img, &|r| ow.cast(r), &persp);
+        sep.render_into(&persp, w, h, &mut img).unwrap();
+        check(&img, &|r| sep.cast(r), &persp);
+        sep.render_into(&ortho, w, h, &mut img).unwrap();
+        check(&img, &|r| sep.cast(r), &ortho);
     }
 }
 
