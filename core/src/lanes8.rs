@@ -103,10 +103,12 @@ impl<'d, V: Voxel> Taps<'d, V> {
     #[target_feature(enable = "avx2,fma")]
     fn new(data: &'d [V], at: [__m256i; 8]) -> Self {
         let max = at[1..].iter().fold(at[0], |m, &a| _mm256_max_epu32(m, a));
-        // `fits` bounds the length by `i32::MAX`, so `last` is an `i32` (−1 for no data).
-        let last = _mm256_set1_epi32(data.len() as i32 - 1);
+        // `last` is the last index as an `i32` where the length is `1..=i32::MAX` (`fits`
+        // holds for every volume the kernel is given; the test below repeats it).
+        let len = data.len();
+        let last = _mm256_set1_epi32((len as i32).wrapping_sub(1));
         let below = _mm256_cmpeq_epi32(_mm256_max_epu32(max, last), last);
-        let inside = !data.is_empty() && _mm256_movemask_epi8(below) == -1;
+        let inside = (1..=i32::MAX as usize).contains(&len) && _mm256_movemask_epi8(below) == -1;
         Self { data, at, inside }
     }
 
