@@ -1,11 +1,12 @@
 //! `ExtinctionWeighted`: extinction-based sampling (Kraus, Bürger 2008, eqs. 18–23).
 
 use super::{
-    linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_columns_x4, Mode,
+    linear_tree, linear_weighted, linear_weighted8_f32, pack_interp, sealed, unpack_interp,
+    weighted_columns_x4, Mode,
 };
 use crate::lanes::F32x4;
 use crate::num::Num;
-use crate::opacity::phi_with;
+use crate::opacity::{expm1f_x4, phi_with};
 use crate::sample::{Interp, Sample};
 use crate::voxel::ExtinctionVoxel;
 
@@ -57,6 +58,35 @@ impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
     fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
         weighted_columns_x4(taps, w, |v| v.extinction::<f32>(), false)
     }
+
+    #[inline(always)]
+    fn finish_x4(&self, i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
+        integrate_step_x4(i, d)
+    }
+}
+
+/// [`integrate_step`] for four samples, lane by lane bit-identical to it. Where every lane has
+/// `τd < 1` (the common case), in lanes: `1 − e^(−τd)` by [`expm1f_x4`], `φ` and `C̃ = C^τ·d·φ`
+/// with the same operations as `integrate_step`; otherwise `integrate_step` per lane.
+#[inline(always)]
+pub(crate) fn integrate_step_x4(i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
+    let lanes = unpack_interp(i);
+    let x = lanes.map(|l| l.a.max(0.0) * d);
+    if !x.iter().all(|&x| x < 1.0) {
+        return pack_interp(lanes.map(|l| {
+            let s = integrate_step(l.c, l.a, d);
+            Interp { c: s.c, a: s.a }
+        }));
+    }
+    let em1 = expm1f_x4(x.map(|x| -x));
+    let mut out = lanes;
+    for ((o, &x), &em1) in out.iter_mut().zip(&x).zip(&em1) {
+        let a = -em1;
+        let g = d * phi_with(x, || a);
+        let s = Sample::clamped(o.c.map(|c| c * g), a);
+        *o = Interp { c: s.c, a: s.a };
+    }
+    pack_interp(out)
 }
 
 /// One step of the emission–absorption integral with constant `C^τ` and `τ` over length `d`:

@@ -170,4 +170,9 @@ impl Mode<StraightU8> for ExtinctionWeightedU8<'_> {
     fn weighted8_x4(&self, taps: &[[StraightU8; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
         weighted_columns_x4(taps, w, |v| self.channels::<f32>(v), false)
     }
+
+    #[inline(always)]
+    fn finish_x4(&self, i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
+        super::extinction::integrate_step_x4(i, d)
+    }
 }
