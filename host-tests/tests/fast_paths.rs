@@ -766,13 +766,16 @@ fn expm1f_lanes_are_libm_expm1f_bit_for_bit() {
             assert_eq!(g.to_bits(), libm::expm1f(x).to_bits(), "x = {x:e} in {x:?}");
         }
     };
-    // Every primary argument, four at a time (consecutive bit patterns in the lanes).
+    // Every primary argument in every lane position: four consecutive bit patterns, rotated
+    // through the lanes.
     let primary = |sign: u32| {
         let mut b = lo;
         while b <= hi {
-            check(std::array::from_fn(|l| {
-                f32::from_bits(sign | (b + l as u32).min(hi))
-            }));
+            for r in 0..4 {
+                check(std::array::from_fn(|l| {
+                    f32::from_bits(sign | (b + ((l + r) % 4) as u32).min(hi))
+                }));
+            }
             b += 4;
         }
     };
