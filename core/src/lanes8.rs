@@ -201,7 +201,7 @@ pub(crate) fn march8<V: Voxel, const SEPARATE: bool>(
     d: f32,
     a_stop: f32,
 ) -> [Sample; LANES] {
-    // SAFETY: the one `unsafe` of the crate, allowed only in builds with the feature `avx2`.
+    // SAFETY: (`unsafe` is allowed only in this module, in builds with the feature `avx2`.)
     // `march8_avx2` needs a CPU with AVX2 and FMA; this module is compiled only when the build
     // enables AVX2 and FMA for its target (`cfg(target_feature = "avx2")`, `"fma"`), which
     // already lets the compiler emit those instructions anywhere in the program, so any CPU
