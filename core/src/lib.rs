@@ -15,6 +15,9 @@
 //!   ray at a time (four consecutive samples in [`lanes`] on SIMD targets) or four rays in
 //!   lanes ([`RayMarcher::cast_rays`]; eight in AVX2 lanes with the feature `avx2` in a build
 //!   for an AVX2 CPU, see [`render::AVX2_PACKETS`]); bit-identical either way.
+//! * **In fixed point** — [`fixed_point`]: the bit-exact integer kernels of firmware and
+//!   hardware (the integer `OpacityWeighted` trilinear kernel in SSE2 with the feature `sse2`
+//!   on x86-64, see [`fixed_point::SSE2_KERNEL`]; bit-identical).
 //!
 //! Every choice is a type, so a pipeline contains only the stages its scene uses. Inputs are
 //! validated once, at construction, into [`Error`] values; the kernels cannot panic, allocate
@@ -35,10 +38,11 @@
 //! ```
 #![no_std]
 // No `unsafe` anywhere, except in the AVX2 kernel (`lanes8`: its entry, two bit casts and
-// the voxel loads after their bounds test) in builds with the opt-in feature `avx2`, where
-// the crate denies it everywhere else.
-#![cfg_attr(not(feature = "avx2"), forbid(unsafe_code))]
-#![cfg_attr(feature = "avx2", deny(unsafe_code))]
+// the voxel loads after their bounds test) in builds with the opt-in feature `avx2`, and the
+// entry of the SSE2 integer kernel (`fixed_point::sse2`) with the feature `sse2`, where the
+// crate denies it everywhere else.
+#![cfg_attr(not(any(feature = "avx2", feature = "sse2")), forbid(unsafe_code))]
+#![cfg_attr(any(feature = "avx2", feature = "sse2"), deny(unsafe_code))]
 #![doc(test(attr(deny(warnings))))]
 
 pub mod classify;

@@ -24,6 +24,10 @@
 //! `Separate` packets march eight rays at a time in AVX2 lanes (`render::AVX2_PACKETS`), and
 //! so does `render_into` (the `_render_into` row; one ray at a time in other builds).
 //!
+//! Built with the feature `sse2` (`cargo bench -p volsample-host --features sse2 --bench
+//! ray_march`, any x86-64), the integer `OpacityWeighted` rows run the SSE2 kernel
+//! (`fixed_point::SSE2_KERNEL`; the interleaved passes print which one ran).
+//!
 //! Yardsticks: the `yardstick_` rows and the last three passes march the same samples with
 //! loops that are not volsample (`volsample_host::yardstick`): a hand-tuned one (SSE2 on
 //! x86-64, byte units, no per-tap checks, not bit-identical to the library), a naive one,
@@ -259,6 +263,14 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
     // passes, against `OpacityWeighted` f32 in packets (pass 6).
     let ratio = |p: &[f64], base: &[f64]| median(p.iter().zip(base).map(|(a, b)| a / b).collect());
     println!("ray_march/interleaved: {rounds} rounds, 256³, {n} samples per pass");
+    println!(
+        "  integer OpacityWeighted trilinear kernel: {}",
+        if volsample::fixed_point::SSE2_KERNEL {
+            "SSE2 (feature sse2)"
+        } else {
+            "portable"
+        }
+    );
     for (k, ((name, _), p)) in passes.iter().zip(&per).enumerate() {
         let packed = if (6..10).contains(&k) {
             format!("   / OW f32 packets: {:.3}", ratio(p, &per[6]))

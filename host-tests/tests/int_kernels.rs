@@ -2,7 +2,7 @@
 //! `f32` results of the same method (within the bounds of `tolerance::integer`), on random
 //! inputs and on every extreme.
 
-use volsample::fixed_point::{IntPos, IntSampler, ONE};
+use volsample::fixed_point::{IntMode, IntPos, IntSampler, IntWeights, ONE, SSE2_KERNEL};
 use volsample::{
     AssociatedU8, OpacityWeighted, Preweighted, Separate, StraightU8, Trilinear, Volume,
 };
@@ -146,6 +146,75 @@ fn extremes_bit_exact_and_within_bounds() {
         }
     }
     worst(inputs.into_iter());
+}
+
+/// `combine_trilinear` (the SSE2 kernel with the feature `sse2` on x86-64, `F ≤ 8`) against
+/// `combine` with the 64-bit trilinear weights (the portable kernel), bit for bit, for one `F`:
+/// every fraction triple for `F ≤ 5` and a random sample of them above, on random cells
+/// (a quarter of the bytes forced to 0 or 255) and on the all-255 cell.
+fn combine_trilinear_matches_combine<const F: u32>(rng: &mut Rng, cells: usize) {
+    let max = (1u32 << F) - 1;
+    let mut compared = 0usize;
+    for c in 0..cells {
+        let taps: [StraightU8; 8] = if c == 0 {
+            [StraightU8([255; 4]); 8]
+        } else {
+            std::array::from_fn(|_| {
+                StraightU8(std::array::from_fn(|_| match rng.next() % 8 {
+                    0 => 0,
+                    1 => 255,
+                    _ => rng.byte(),
+                }))
+            })
+        };
+        let mut check = |frac: [u32; 3]| {
+            let want = OpacityWeighted.combine(&taps, &IntWeights::trilinear_frac::<F>(frac));
+            let got = OpacityWeighted.combine_trilinear::<F>(&taps, frac);
+            assert_eq!(got, want, "F = {F}, frac {frac:?}, taps {taps:?}");
+            compared += 1;
+        };
+        if F <= 5 {
+            for fz in 0..=max {
+                for fy in 0..=max {
+                    for fx in 0..=max {
+                        check([fx, fy, fz]);
+                    }
+                }
+            }
+        } else {
+            for _ in 0..4096 {
+                let pick = |r: u64| match r % 8 {
+                    0 => 0,
+                    1 => max,
+                    _ => (r >> 8) as u32 & max,
+                };
+                check([pick(rng.next()), pick(rng.next()), pick(rng.next())]);
+            }
+        }
+    }
+    assert!(compared >= cells * 4096, "{compared} comparisons");
+}
+
+#[test]
+fn trilinear_kernel_is_bit_identical_to_the_weighted_sum() {
+    // With `VOLSAMPLE_EXPECT_SSE2=1` (CI's SSE2 stage) the build must have the kernel in.
+    if std::env::var("VOLSAMPLE_EXPECT_SSE2").is_ok_and(|v| v == "1") {
+        // `black_box`: the constant is the build's answer, read as a value.
+        assert!(
+            std::hint::black_box(SSE2_KERNEL),
+            "VOLSAMPLE_EXPECT_SSE2=1 but the SSE2 kernel is not compiled in"
+        );
+    }
+    println!("SSE2 kernel compiled in: {SSE2_KERNEL}");
+    let mut rng = Rng::new();
+    combine_trilinear_matches_combine::<4>(&mut rng, 16);
+    combine_trilinear_matches_combine::<5>(&mut rng, 4);
+    combine_trilinear_matches_combine::<6>(&mut rng, 64);
+    combine_trilinear_matches_combine::<7>(&mut rng, 64);
+    combine_trilinear_matches_combine::<8>(&mut rng, 256);
+    // Above the kernel's F ≤ 8: the portable kernel either way.
+    combine_trilinear_matches_combine::<9>(&mut rng, 8);
+    combine_trilinear_matches_combine::<12>(&mut rng, 8);
 }
 
 #[test]

@@ -59,6 +59,8 @@ pub mod premul;
 pub mod preweighted;
 pub mod ray_marcher;
 pub mod separate;
+#[cfg(all(feature = "sse2", target_arch = "x86_64"))]
+mod sse2;
 pub mod weights;
 
 pub use composite::{composite_front_to_back, front_to_back, IntStop};
@@ -68,6 +70,11 @@ pub use extinction::{ExtinctionFx, IntExtinction};
 pub use premul::{premultiply, premultiply_voxel, unpremultiply};
 pub use ray_marcher::IntRayMarcher;
 pub use weights::{nearest_index, trilinear_weights, IntWeights};
+
+/// `true` when the integer `OpacityWeighted` trilinear kernel runs in SSE2 intrinsics: the
+/// crate feature `sse2` on an x86-64 target (`F ≤ 8`, straight RGBA8 voxels; bit-identical
+/// to the portable kernel, which every other build uses).
+pub const SSE2_KERNEL: bool = cfg!(all(feature = "sse2", target_arch = "x86_64"));
 
 use crate::error::Error;
 use crate::filter::{Nearest, Trilinear, WeightedSum};
@@ -375,6 +382,16 @@ pub trait IntMode<V: Voxel>: sealed::Sealed + Copy + core::fmt::Debug {
     /// Combines `K` taps with integer weights (summing to exactly `2^shift`, `shift ≤ 36`,
     /// guaranteed by [`IntWeights`]) into an associated U8.8 sample.
     fn combine<const K: usize>(&self, taps: &[V; K], w: &IntWeights<K>) -> IntSample;
+
+    /// [`combine`](Self::combine) of the 8 taps of a trilinear cell (tap `i` the corner
+    /// `(i & 1, (i >> 1) & 1, i >> 2)`) with the weights of the fractions `frac` (each
+    /// `< 2^F`, [`IntWeights::trilinear`]): the same result, bit for bit. A mode may compute
+    /// it in another exact order (the default is `combine` itself).
+    #[doc(hidden)]
+    #[inline(always)]
+    fn combine_trilinear<const F: u32>(&self, taps: &[V; 8], frac: [u32; 3]) -> IntSample {
+        self.combine(taps, &IntWeights::trilinear_frac::<F>(frac))
+    }
 }
 
 /// A reconstruction filter the integer kernels implement: [`Nearest`] and
@@ -383,9 +400,29 @@ pub trait IntFilter: sealed::Sealed + Copy + core::fmt::Debug {
     /// Number of voxels read per sample.
     const TAPS: usize;
     /// Reconstructs an associated sample at `pos`.
+    #[inline(always)]
     fn sample<V: Voxel, M: IntMode<V>, const F: u32>(
         mode: &M,
         vol: &Volume<'_, V>,
+        pos: IntPos<F>,
+    ) -> IntSample {
+        Self::combine(mode, Self::fetch(vol, pos), pos)
+    }
+
+    /// The voxels one sample reads.
+    #[doc(hidden)]
+    type Taps<V: Voxel>: Copy;
+
+    /// The first half of [`sample`](Self::sample): reads the voxels at `pos` (clamped to the
+    /// edge), so that a marcher can read the next sample's voxels before it combines these.
+    #[doc(hidden)]
+    fn fetch<V: Voxel, const F: u32>(vol: &Volume<'_, V>, pos: IntPos<F>) -> Self::Taps<V>;
+
+    /// The second half of [`sample`](Self::sample): the sample of the voxels `fetch` read.
+    #[doc(hidden)]
+    fn combine<V: Voxel, M: IntMode<V>, const F: u32>(
+        mode: &M,
+        taps: Self::Taps<V>,
         pos: IntPos<F>,
     ) -> IntSample;
 }
@@ -400,31 +437,36 @@ fn to_isize(i: u32) -> isize {
 
 impl IntFilter for Nearest {
     const TAPS: usize = 1;
+    type Taps<V: Voxel> = [V; 1];
+
     #[inline(always)]
-    fn sample<V: Voxel, M: IntMode<V>, const F: u32>(
-        mode: &M,
-        vol: &Volume<'_, V>,
-        pos: IntPos<F>,
-    ) -> IntSample {
+    fn fetch<V: Voxel, const F: u32>(vol: &Volume<'_, V>, pos: IntPos<F>) -> [V; 1] {
         let [x, y, z] = pos.raw().map(|r| to_isize(nearest_index::<F>(r)));
-        mode.combine(&[vol.fetch_clamped(x, y, z)], &IntWeights::NEAREST)
+        [vol.fetch_clamped(x, y, z)]
+    }
+
+    #[inline(always)]
+    fn combine<V: Voxel, M: IntMode<V>, const F: u32>(
+        mode: &M,
+        taps: [V; 1],
+        _pos: IntPos<F>,
+    ) -> IntSample {
+        mode.combine(&taps, &IntWeights::NEAREST)
     }
 }
 
 impl IntFilter for Trilinear<WeightedSum> {
     const TAPS: usize = 8;
+    type Taps<V: Voxel> = [V; 8];
+
     #[inline(always)]
-    fn sample<V: Voxel, M: IntMode<V>, const F: u32>(
-        mode: &M,
-        vol: &Volume<'_, V>,
-        pos: IntPos<F>,
-    ) -> IntSample {
+    fn fetch<V: Voxel, const F: u32>(vol: &Volume<'_, V>, pos: IntPos<F>) -> [V; 8] {
         // Interior fast path: the whole cell inside the grid, no clamps (same taps).
         let [xi, yi, zi] = pos
             .index()
             .map(|i| usize::try_from(i).unwrap_or(usize::MAX));
         if let Some(taps) = vol.cell(xi, yi, zi) {
-            return mode.combine(&taps, &IntWeights::trilinear(pos));
+            return taps;
         }
         let [x, y, z] = pos.index().map(to_isize);
         let (x1, y1, z1) = (
@@ -432,7 +474,7 @@ impl IntFilter for Trilinear<WeightedSum> {
             y.saturating_add(1),
             z.saturating_add(1),
         );
-        let taps = [
+        [
             vol.fetch_clamped(x, y, z),
             vol.fetch_clamped(x1, y, z),
             vol.fetch_clamped(x, y1, z),
@@ -441,8 +483,16 @@ impl IntFilter for Trilinear<WeightedSum> {
             vol.fetch_clamped(x1, y, z1),
             vol.fetch_clamped(x, y1, z1),
             vol.fetch_clamped(x1, y1, z1),
-        ];
-        mode.combine(&taps, &IntWeights::trilinear(pos))
+        ]
+    }
+
+    #[inline(always)]
+    fn combine<V: Voxel, M: IntMode<V>, const F: u32>(
+        mode: &M,
+        taps: [V; 8],
+        pos: IntPos<F>,
+    ) -> IntSample {
+        mode.combine_trilinear::<F>(&taps, pos.frac())
     }
 }
 
@@ -485,5 +535,17 @@ impl<'a, V: Voxel, M: IntMode<V>, Fl: IntFilter> IntSampler<'a, V, M, Fl> {
     pub fn sample<const F: u32>(&self, pos: IntPos<F>) -> IntSample {
         check_frac_bits!(F);
         Fl::sample(&self.mode, &self.vol, pos)
+    }
+
+    /// [`sample`](Self::sample) in two halves (see [`IntFilter::fetch`]).
+    #[inline(always)]
+    pub(crate) fn fetch<const F: u32>(&self, pos: IntPos<F>) -> Fl::Taps<V> {
+        Fl::fetch(&self.vol, pos)
+    }
+
+    /// The second half.
+    #[inline(always)]
+    pub(crate) fn combine<const F: u32>(&self, taps: Fl::Taps<V>, pos: IntPos<F>) -> IntSample {
+        Fl::combine(&self.mode, taps, pos)
     }
 }

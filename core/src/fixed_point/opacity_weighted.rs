@@ -41,4 +41,13 @@ impl IntMode<StraightU8> for OpacityWeighted {
         let c = s_c.map(|s| products_to_u88(s, shift) as u16);
         IntSample::from_valid(c, a)
     }
+
+    #[inline(always)]
+    fn combine_trilinear<const F: u32>(&self, taps: &[StraightU8; 8], frac: [u32; 3]) -> IntSample {
+        #[cfg(all(feature = "sse2", target_arch = "x86_64"))]
+        if F <= super::sse2::MAX_F {
+            return super::sse2::opacity_weighted_trilinear::<F>(taps, frac);
+        }
+        self.combine(taps, &IntWeights::trilinear_frac::<F>(frac))
+    }
 }

@@ -16,7 +16,12 @@
 //! vectors), with no float arithmetic per sample.
 //!
 //! Stages a scene does not use are not in the inner loop: the correction is chosen once per
-//! ray by type, not per sample.
+//! ray by type, not per sample. Without empty-space skipping the loop is software-pipelined:
+//! the voxels of sample `j + 1` are read before sample `j` is combined, so that their loads
+//! are in flight while it computes (on the reference 256³ volume this took the integer
+//! `cast` from 32 to 29 ns/sample, portable kernel, and to 22 with the SSE2 one; a probe,
+//! 2026-11-27). The positions, taps and compositing order are those of one sample at a time,
+//! so the results are too.
 
 use super::composite::{front_to_back, IntStop};
 use super::DEFAULT_FRAC_BITS;
@@ -214,6 +219,12 @@ where
         IntPos::quantize([x.max(0.0).min(hx), y.max(0.0).min(hy), z.max(0.0).min(hz)]).ok()
     }
 
+    /// [`quantize`](Self::quantize), which never returns `None`, as a position.
+    #[inline(always)]
+    fn quantize_in_box(&self, pos: [f32; 3]) -> IntPos<F> {
+        self.quantize(pos).unwrap_or_default()
+    }
+
     /// One sample at `pos` (voxel units, clamped and quantized as [`quantize`](Self::quantize)
     /// does), opacity-corrected for the step.
     #[inline]
@@ -268,6 +279,25 @@ where
         let d = self.step.d();
         let a_stop = self.stop.a_stop();
         let mut acc = IntSample::TRANSPARENT;
+        if !S::SKIPS {
+            // Software-pipelined: the voxels of sample `j + 1` are read before sample `j` is
+            // combined, so their loads are in flight meanwhile. Same positions, same taps, same
+            // order of compositing: the same result. (One read past the last sample, at a
+            // position clamped into the volume, is not used.)
+            let at = |j: u32| self.quantize_in_box(ray.at(t_first + j as f32 * d));
+            let mut pos = at(0);
+            let mut taps = self.sampler.fetch(pos);
+            for j in 0..n {
+                if acc.a() >= a_stop {
+                    return (acc, j);
+                }
+                let (p, t) = (pos, taps);
+                pos = at(j.wrapping_add(1));
+                taps = self.sampler.fetch(pos);
+                acc = front_to_back(acc, corr.apply(self.sampler.combine(t, p)));
+            }
+            return (acc, n);
+        }
         for j in 0..n {
             if acc.a() >= a_stop {
                 return (acc, j);

@@ -60,8 +60,14 @@ impl IntWeights<8> {
     /// The trilinear weights of `pos` ([`trilinear_weights`] of its fractions, `shift = 3F`).
     #[inline(always)]
     pub const fn trilinear<const F: u32>(pos: super::IntPos<F>) -> Self {
+        Self::trilinear_frac::<F>(pos.frac())
+    }
+
+    /// The trilinear weights of the fractions `frac` ([`trilinear_weights`], `shift = 3F`).
+    #[inline(always)]
+    pub const fn trilinear_frac<const F: u32>(frac: [u32; 3]) -> Self {
         Self {
-            w: trilinear_weights::<F>(pos.frac()),
+            w: trilinear_weights::<F>(frac),
             shift: 3 * F,
         }
     }
