@@ -72,7 +72,7 @@ pub use ray_marcher::IntRayMarcher;
 pub use weights::{nearest_index, trilinear_weights, IntWeights};
 
 /// `true` when the integer `OpacityWeighted` trilinear kernel runs in SSE2 intrinsics: the
-/// crate feature `sse2` on an x86-64 target (`F ≤ 8`, straight RGBA8 voxels; bit-identical
+/// crate feature `sse2` on an x86-64 target (every `F`, straight RGBA8 voxels; bit-identical
 /// to the portable kernel, which every other build uses).
 pub const SSE2_KERNEL: bool = cfg!(all(feature = "sse2", target_arch = "x86_64"));
 

@@ -45,9 +45,8 @@ impl IntMode<StraightU8> for OpacityWeighted {
     #[inline(always)]
     fn combine_trilinear<const F: u32>(&self, taps: &[StraightU8; 8], frac: [u32; 3]) -> IntSample {
         #[cfg(all(feature = "sse2", target_arch = "x86_64"))]
-        if F <= super::sse2::MAX_F {
-            return super::sse2::opacity_weighted_trilinear::<F>(taps, frac);
-        }
+        return super::sse2::opacity_weighted_trilinear::<F>(taps, frac);
+        #[cfg(not(all(feature = "sse2", target_arch = "x86_64")))]
         self.combine(taps, &IntWeights::trilinear_frac::<F>(frac))
     }
 }

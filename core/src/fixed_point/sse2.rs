@@ -8,21 +8,22 @@
 //! `(α·C_r, α·C_g, α·C_b, α)` of a tap in the lanes of one vector:
 //!
 //! 1. `P = α·(C_r, C_g, C_b, 1)` per tap, in 16-bit lanes (`≤ 255² < 2^16`, exact);
-//! 2. along x, per pair of taps: `X = (2^F − f_x)·P₀ + f_x·P₁ ≤ 2^F·255² < 2^24` with one
-//!    `pmaddwd`, whose operands are signed: it reads `P − 2^15` (which fits `i16`) and
-//!    `2^15·Σ wx = 2^(15+F)` is added back;
-//! 3. along y and z at once: `S = Σ_j wyz_j·X_j`, `wyz_j ≤ 2^(2F)`, in 64-bit lanes
-//!    (`pmuludq`, `S < 2^(3F)·255² < 2^40`);
+//! 2. along x, per pair of taps: `X = (2^F − f_x)·P₀ + f_x·P₁ ≤ 2^F·255² < 2^28` with one
+//!    `pmaddwd`, whose operands are signed 16-bit: it reads `P − 2^15` (which fits) and the
+//!    weights (`≤ 2^F ≤ 2^12`, which fit), and `2^15·Σ wx = 2^(15+F)` is added back (the
+//!    signed sums stay within `±2^27`);
+//! 3. along y and z at once: `S = Σ_j wyz_j·X_j` with `wyz_j ≤ 2^(2F) ≤ 2^24`, in 64-bit lanes
+//!    (`pmuludq` of two 32-bit operands; `S ≤ 2^(3F)·255² < 2^52`);
 //! 4. the rounding of [`levels_to_u88`](super::levels_to_u88) and
 //!    [`products_to_u88`](super::products_to_u88) (**round half up**):
-//!    `α = ⌊(256·S_α + 2^(s−1))/2^s⌋`, `C̃ = ⌊(512·S_c + 255·2^s)/(510·2^s)⌋` with `s = 3F`,
-//!    the latter as `⌊q/255⌋` of `q = ⌊(512·S_c + 255·2^s)/2^(s+1)⌋` (a nested floor of a
-//!    division is the floor of the product's division), and `⌊q/255⌋ = ⌊q·(2^39 + 127)/255 ·
-//!    2^−39⌋`, i.e. `(q·0x8080_8081) >> 39`, exact for every `q < 2^32` (`q < 2^25` here; a
-//!    unit test checks all of them).
+//!    `α = ⌊(256·S_α + 2^(s−1))/2^s⌋`, `C̃ = ⌊(512·S_c + 255·2^s)/(510·2^s)⌋` with `s = 3F`
+//!    (numerators below `2^62`), the latter as `⌊q/255⌋` of
+//!    `q = ⌊(512·S_c + 255·2^s)/2^(s+1)⌋ < 2^25` (the floor of a floor of a quotient is the
+//!    floor of the whole quotient), and `⌊q/255⌋ = (q·0x8080_8081) >> 39` (`0x8080_8081 =
+//!    (2^39 + 127)/255`; a unit test checks every `q < 2^25` and a sample up to `2^32`).
 //!
-//! Every intermediate is an exact integer within its lane, so the result is `combine`'s.
-//! Requires `F ≤ 8` (`2^F·255 < 2^16` for step 2); larger `F` keeps the portable kernel.
+//! Every intermediate is an exact integer within its lane, so the result is `combine`'s, for
+//! every `F` in `4..=12`.
 //! One `unsafe` call enters the kernel, a `#[target_feature(enable = "sse2")]` function (SSE2
 //! is part of x86-64), inside which the value intrinsics are safe functions.
 
@@ -31,15 +32,12 @@ use core::arch::x86_64::*;
 use super::IntSample;
 use crate::voxel::StraightU8;
 
-/// The largest `F` the kernel takes.
-pub(crate) const MAX_F: u32 = 8;
-
 /// `(q·DIV255_MAGIC) >> DIV255_SHIFT = ⌊q/255⌋` for every `q < 2^32`.
 pub(crate) const DIV255_MAGIC: u64 = 0x8080_8081;
 /// See [`DIV255_MAGIC`].
 pub(crate) const DIV255_SHIFT: u32 = 39;
 
-/// `combine` of the 8 taps of a trilinear cell with the weights of `frac` (`F ≤ 8`).
+/// `combine` of the 8 taps of a trilinear cell with the weights of `frac`.
 #[inline(always)]
 #[allow(unsafe_code)]
 pub(crate) fn opacity_weighted_trilinear<const F: u32>(
@@ -62,7 +60,7 @@ fn kernel<const F: u32>(taps: &[StraightU8; 8], frac: [u32; 3]) -> IntSample {
     let lo = _mm_setr_epi32(word(t0), word(t1), word(t2), word(t3));
     let hi = _mm_setr_epi32(word(t4), word(t5), word(t6), word(t7));
     let zero = _mm_setzero_si128();
-    // The pair weights (2^F − fx, fx) as i16, repeated; each ≤ 2^F ≤ 256.
+    // The pair weights (2^F − fx, fx) as i16, repeated; each ≤ 2^F ≤ 2^12.
     let wx = _mm_set1_epi32((fx << 16) | (one - fx));
     let x = [
         along_x::<F>(_mm_unpacklo_epi8(lo, zero), wx),
