@@ -18,10 +18,10 @@
 //! Stages a scene does not use are not in the inner loop: the correction is chosen once per
 //! ray by type, not per sample. Without empty-space skipping the loop is software-pipelined:
 //! the voxels of sample `j + 1` are read before sample `j` is combined, so that their loads
-//! are in flight while it computes (on the reference 256³ volume this took the integer
-//! `cast` from 32 to 29 ns/sample, portable kernel, and to 22 with the SSE2 one; a probe,
-//! 2026-11-27). The positions, taps and compositing order are those of one sample at a time,
-//! so the results are too.
+//! are in flight while it computes (in the `ray_march` bench this took the portable integer
+//! `cast` from 1.33 to 1.27 of the float `cast`'s time, and to 0.905 with the SSE2 kernel of
+//! the feature `sse2`). The positions, taps and compositing order are those of one sample at
+//! a time, so the results are too.
 
 use super::composite::{front_to_back, IntStop};
 use super::DEFAULT_FRAC_BITS;
