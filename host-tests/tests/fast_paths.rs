@@ -13,7 +13,8 @@
 //! * the eight-ray AVX2 packets of `cast_rays` (feature `avx2` in a build for an AVX2 CPU,
 //!   `volsample::render::AVX2_PACKETS`) against `cast`, and the byte conversion they use
 //!   against the library's `n/255` for every byte. With `VOLSAMPLE_EXPECT_AVX2=1` the test
-//!   fails unless that kernel is compiled in (so that CI's AVX2 stage cannot pass vacuously).
+//!   fails unless that kernel is compiled in (so that CI's AVX2 stage cannot pass vacuously);
+//!   coherent packets (rows of parallel rays), where that kernel reuses a cell's channels.
 //!
 //! `VOLSAMPLE_FAST_PATH_CASES` sets the number of random cases (default 2000).
 
@@ -747,6 +748,79 @@ fn avx2_packets_are_bit_identical_to_single_rays() {
         }
         both_orders!(OpacityWeighted, "OpacityWeighted");
         both_orders!(Separate, "Separate");
+    }
+    assert!(rays_checked > 1000, "{rays_checked} rays");
+}
+
+/// Coherent packets, as a renderer makes them: rows of parallel rays (pixel spacings of a
+/// voxel, half a voxel and less) along a major axis (x, y or z, either sign, sometimes exactly
+/// axis-aligned), through the whole box and out of it. Every lane then stays in its cell for
+/// some steps and moves on by one cell together with the others, so the AVX2 kernel's reuse
+/// of a cell's channels and of its far face runs often (in every face orientation), on the
+/// box's clamped edges too; `cast_rays` must still equal `cast` bit for bit.
+#[test]
+fn coherent_packets_are_bit_identical_to_single_rays() {
+    let mut rng = Rng(0xC0DE_0F1A_7E55_0009);
+    let mut rays_checked = 0;
+    for case in 0..cases() / 8 {
+        let dims = [0; 3].map(|_| 1 + rng.below(12) as usize);
+        let u8s = random_u8_volume(&mut rng, dims);
+        let d = [0.5, 0.3, 0.25, 0.7][case % 4];
+        let vol = Volume::new(&u8s, dims)
+            .unwrap()
+            .with_reference_distance(d)
+            .unwrap();
+        let step = Step::new(d).unwrap().with_phase(rng.unit() * 0.99).unwrap();
+        let major = case % 3;
+        let sign = if rng.below(2) == 0 { 1.0 } else { -1.0 };
+        let mut dir = [0.0f32; 3];
+        dir[major] = sign;
+        if rng.below(4) != 0 {
+            for (k, c) in dir.iter_mut().enumerate() {
+                if k != major {
+                    *c = (rng.unit() * 2.0 - 1.0) * 0.4;
+                }
+            }
+        }
+        // The row runs along one of the other axes, from a corner region outside the box.
+        let across = (major + 1 + rng.below(2) as usize) % 3;
+        let spacing = [1.0, 0.5, 0.25, 0.37][rng.below(4) as usize];
+        let len = 8 * (1 + rng.below(3) as usize) + rng.below(8) as usize;
+        let back = 2.0 * dims.iter().copied().max().unwrap_or(1) as f32;
+        let start = [0, 1, 2].map(|k| {
+            if k == major {
+                dims[k] as f32 * 0.5 - sign * back
+            } else {
+                rng.unit() * dims[k] as f32 - 1.0
+            }
+        });
+        let rays: Vec<Ray> = (0..len)
+            .map(|i| {
+                let mut o = start;
+                o[across] += i as f32 * spacing;
+                Ray::new(o, dir).unwrap()
+            })
+            .collect();
+        let mut out = vec![Sample::TRANSPARENT; len];
+        let a_stop = [1.0, 0.9, 0.5][rng.below(3) as usize];
+        macro_rules! check {
+            ($mode:expr, $what:expr) => {{
+                let stop = FrontToBack(Threshold::new(a_stop).unwrap());
+                let m = RayMarcher::new(vol, $mode, Trilinear::new(), stop, step).unwrap();
+                m.cast_rays(&rays, &mut out).unwrap();
+                for (ray, g) in rays.iter().zip(&out) {
+                    let w = m.cast(ray);
+                    assert!(
+                        same_sample(g, &w),
+                        "{}, case {case}: {ray:?}: {g:?} vs {w:?}",
+                        $what
+                    );
+                }
+                rays_checked += len;
+            }};
+        }
+        check!(OpacityWeighted, "OpacityWeighted");
+        check!(Separate, "Separate");
     }
     assert!(rays_checked > 1000, "{rays_checked} rays");
 }
