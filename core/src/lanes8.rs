@@ -28,16 +28,19 @@
 //! `tests/fast_paths.rs` compares `cast_rays` with `cast` bit for bit when the kernel is
 //! compiled in ([`AVX2_PACKETS`](crate::render::AVX2_PACKETS)).
 //!
-//! **Reuse and prefetch** (the same values, so the same results): the taps' channels are
-//! kept between steps. When every lane is still in the cell of the last step (at step 0.5 a
-//! ray stays in a cell for about two samples) nothing is read or converted; when every lane
-//! has moved on by one cell along the packet's major axis (that of lane 0's largest direction
-//! component), the four taps of the cell's far face become the near face and only the new
-//! far face is read. Each step also prefetches, for lanes 0 and 7, the four tap rows of the
-//! sample [`PREFETCH_STEPS`] steps ahead: without the prefetch, the reads that remain wait on
-//! memory (a prefetch never faults, so its address needs no bounds check). On the 256³ bench
-//! this took the packets from 7.4 to about 5.1 ns/sample; a packet whose lanes leave their
-//! cells at different steps (a perspective view) gains less.
+//! **Reuse and prefetch for parallel rays** (the same values, so the same results): where
+//! the eight rays have one direction (an orthographic view), their lanes move from cell to
+//! cell together, and the taps' channels are kept between steps. When every lane is still in
+//! the cell of the last step (at step 0.5 a ray stays in a cell for about two samples) nothing
+//! is read or converted; when every lane has moved on by one cell along the packet's major
+//! axis (that of the direction's largest component), the four taps of the cell's far face
+//! become the near face and only the new far face is read. Each step also prefetches, for
+//! lanes 0 and 7, the four tap rows of the sample [`PREFETCH_STEPS`] steps ahead: without
+//! it, the reads that remain (behind the reuse's branches) wait on memory; a prefetch never
+//! faults, so its address needs no bounds check. On the 256³ bench this took the packets
+//! from 7.4 to about 5.15 ns/sample. Rays of different directions (a perspective view) leave
+//! their cells at different steps; there the reuse cost a quarter more time in a probe
+//! (10.4 against 8.3 ns/sample), so such packets read and convert every tap at every step.
 
 use core::arch::x86_64::*;
 
@@ -260,28 +263,38 @@ fn unpack<V: Voxel, const INSIDE: bool>(
     ks: [usize; 4],
     out: &mut [[__m256; 4]; 4],
 ) {
-    let byte = _mm256_set1_epi32(0xff);
     for (c, k) in out.iter_mut().zip(ks) {
-        let g = taps.load::<INSIDE>(k);
-        *c = [
-            unorm8(_mm256_and_si256(g, byte)),
-            unorm8(_mm256_and_si256(_mm256_srli_epi32::<8>(g), byte)),
-            unorm8(_mm256_and_si256(_mm256_srli_epi32::<16>(g), byte)),
-            unorm8(_mm256_srli_epi32::<24>(g)),
-        ];
+        *c = channels(taps.load::<INSIDE>(k));
     }
+}
+
+/// The channels `[r, g, b, α]` of eight little-endian RGBA words as `f32`, each `n/255`
+/// correctly rounded.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn channels(g: __m256i) -> [__m256; 4] {
+    let byte = _mm256_set1_epi32(0xff);
+    [
+        unorm8(_mm256_and_si256(g, byte)),
+        unorm8(_mm256_and_si256(_mm256_srli_epi32::<8>(g), byte)),
+        unorm8(_mm256_and_si256(_mm256_srli_epi32::<16>(g), byte)),
+        unorm8(_mm256_srli_epi32::<24>(g)),
+    ]
 }
 
 /// The mode's sums over the taps from the last down (`mode::dot`): `OpacityWeighted` weights
 /// the colors and sums by `ω = w·α` (then `α = Σ ω`); `Separate` sums `w·C` and `w·α`.
-/// `[Σ r, Σ g, Σ b, Σ α]`.
+/// `[Σ r, Σ g, Σ b, Σ α]`, of the channels `tap(k)` of tap `k`.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-fn mode_sums<const SEPARATE: bool, const A: usize>(cell: &Cell<A>, w: &[__m256; 8]) -> [__m256; 4] {
+fn mode_sums<const SEPARATE: bool>(
+    tap: impl Fn(usize) -> [__m256; 4],
+    w: &[__m256; 8],
+) -> [__m256; 4] {
     let (add, mul) = (_mm256_add_ps, _mm256_mul_ps);
     let mut s = [_mm256_setzero_ps(); 4];
     for (k, &wk) in w.iter().enumerate().rev() {
-        let [r, gr, b, a] = cell.tap(k);
+        let [r, gr, b, a] = tap(k);
         let (wc, wa) = if SEPARATE {
             (wk, mul(wk, a))
         } else {
@@ -327,10 +340,15 @@ pub(crate) fn march8<V: Voxel, const SEPARATE: bool>(
     // already lets the compiler emit those instructions anywhere in the program, so any CPU
     // that runs this code has them.
     unsafe {
-        match major_axis(rays[0].dir()) {
-            0 => march8_avx2::<V, SEPARATE, 0>(vol, rays, ranges, d, a_stop),
-            1 => march8_avx2::<V, SEPARATE, 1>(vol, rays, ranges, d, a_stop),
-            _ => march8_avx2::<V, SEPARATE, 2>(vol, rays, ranges, d, a_stop),
+        let [r0, ..] = rays;
+        if rays.iter().any(|r| r.dir() != r0.dir()) {
+            march8_avx2::<V, SEPARATE, 2, false>(vol, rays, ranges, d, a_stop)
+        } else {
+            match major_axis(r0.dir()) {
+                0 => march8_avx2::<V, SEPARATE, 0, true>(vol, rays, ranges, d, a_stop),
+                1 => march8_avx2::<V, SEPARATE, 1, true>(vol, rays, ranges, d, a_stop),
+                _ => march8_avx2::<V, SEPARATE, 2, true>(vol, rays, ranges, d, a_stop),
+            }
         }
     }
 }
@@ -347,9 +365,13 @@ fn major_axis(dir: [f32; 3]) -> usize {
     }
 }
 
-/// [`march8`] in AVX2, the taps' channels kept as faces across axis `A` ([`Cell`]).
+/// [`march8`] in AVX2; where `REUSE` (parallel rays), the taps' channels kept as faces across
+/// axis `A` ([`Cell`]) and the voxels ahead prefetched. (Not inlined: its four instances
+/// inlined into `march8` slowed the reuse by about a tenth in a probe, 5.7 against 5.15
+/// ns/sample.)
+#[inline(never)]
 #[target_feature(enable = "avx2,fma")]
-fn march8_avx2<V: Voxel, const SEPARATE: bool, const A: usize>(
+fn march8_avx2<V: Voxel, const SEPARATE: bool, const A: usize, const REUSE: bool>(
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     ranges: &[(f32, u32); LANES],
@@ -420,15 +442,17 @@ fn march8_avx2<V: Voxel, const SEPARATE: bool, const A: usize>(
         };
         let [(fx, x0, x1, qx), (fy, y0, y1, qy), (fz, z0, z1, qz)] = axes.map(split);
         let row = |y, z| _mm256_add_epi32(_mm256_mullo_epi32(y, sx), _mm256_mullo_epi32(z, sy));
-        // The prefetch: lanes 0 and 7 of the four tap rows ahead. Its addresses may lie
-        // outside the data (`wrapping_offset`, never dereferenced).
-        let q = _mm256_add_epi32(qx, row(qy, qz));
-        for r in [zero, sx, sy, _mm256_add_epi32(sx, sy)] {
-            let a = to_i32s(_mm256_add_epi32(q, r));
-            let [a0, .., a7] = a;
-            for l in [a0, a7] {
-                let p = data.as_ptr().wrapping_offset(l as isize);
-                _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>());
+        // The prefetch (with the reuse, whose branches would otherwise leave the remaining
+        // reads waiting on memory): lanes 0 and 7 of the four tap rows ahead. Its addresses
+        // may lie outside the data (`wrapping_offset`, never dereferenced).
+        if REUSE {
+            let q = _mm256_add_epi32(qx, row(qy, qz));
+            for r in [zero, sx, sy, _mm256_add_epi32(sx, sy)] {
+                let [a0, .., a7] = to_i32s(_mm256_add_epi32(q, r));
+                for l in [a0, a7] {
+                    let p = data.as_ptr().wrapping_offset(l as isize);
+                    _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>());
+                }
             }
         }
         let (r00, r10, r01, r11) = (row(y0, z0), row(y1, z0), row(y0, z1), row(y1, z1));
@@ -462,26 +486,36 @@ fn march8_avx2<V: Voxel, const SEPARATE: bool, const A: usize>(
         let w000 = sub(one, rest);
         let w = [w000, w100, w010, w110, w001, w101, w011, xyz];
 
-        // The taps' channels (read where the packet has moved on), then the sums from the last
-        // tap down (`mode::dot`).
-        // (`Cell::enter`'s body: a `target_feature` function is not inlined into its caller
-        // here, and the call cost about 5 % of the kernel's time.)
-        let same = |a: __m256i, b: __m256i, c: __m256i, d: __m256i| {
-            let eq = _mm256_and_si256(_mm256_cmpeq_epi32(a, b), _mm256_cmpeq_epi32(c, d));
-            _mm256_movemask_epi8(eq) == -1
-        };
-        let [c0, c7, far0] = cell.at;
-        if !same(at[0], c0, at[7], c7) {
-            let taps = Taps::new(data, at);
-            if same(at[0], far0, Cell::<A>::near7(&at), c7) {
-                cell.near ^= 1;
-            } else {
-                cell.read::<V, 0>(&taps);
+        // The taps' channels, then the sums from the last tap down (`mode::dot`). With the
+        // reuse, the channels are read only where the packet has moved on (here rather than in
+        // a `Cell` method: a `target_feature` function was not inlined into its caller, and
+        // the call cost about 5 % of the kernel's time). The branch on `inside` is taken once
+        // per step or face, outside the taps' loop.
+        let s = if REUSE {
+            let same = |a: __m256i, b: __m256i, c: __m256i, d: __m256i| {
+                let eq = _mm256_and_si256(_mm256_cmpeq_epi32(a, b), _mm256_cmpeq_epi32(c, d));
+                _mm256_movemask_epi8(eq) == -1
+            };
+            let [c0, c7, far0] = cell.at;
+            if !same(at[0], c0, at[7], c7) {
+                let taps = Taps::new(data, at);
+                if same(at[0], far0, Cell::<A>::near7(&at), c7) {
+                    cell.near ^= 1;
+                } else {
+                    cell.read::<V, 0>(&taps);
+                }
+                cell.read::<V, 1>(&taps);
+                cell.at = [at[0], at[7], Cell::<A>::far0(&at)];
             }
-            cell.read::<V, 1>(&taps);
-            cell.at = [at[0], at[7], Cell::<A>::far0(&at)];
-        }
-        let s = mode_sums::<SEPARATE, A>(&cell, &w);
+            mode_sums::<SEPARATE>(|k| cell.tap(k), &w)
+        } else {
+            let taps = Taps::new(data, at);
+            if taps.inside {
+                mode_sums::<SEPARATE>(|k| channels(taps.load::<true>(k)), &w)
+            } else {
+                mode_sums::<SEPARATE>(|k| channels(taps.load::<false>(k)), &w)
+            }
+        };
         // `Sample::clamped`: `α` into [0, 1] (NaN to 0), each color into [0, α]; `Separate`
         // first weights the colors by the clamped `α` (its `finish`).
         let a = _mm256_min_ps(_mm256_max_ps(s[3], zf), one);
