@@ -21,10 +21,9 @@
 //! last tap to the first (`ω = w·α`, `Σ ω·C`, `Σ ω` for `OpacityWeighted`; `Σ w·C`, `Σ w·α`
 //! and `C̃ = α·C` for `Separate`), the clamps, and the front-to-back step — with no fused
 //! multiply-add (IEEE `+`, `−`, `×` round the same in any unit). A byte `n` becomes the
-//! correctly rounded `n/255` of the table the one-ray kernel reads by one refinement step:
-//! `q = n·r` with `r = 1/255` rounded, `e = n − 255·q` (exact in one fused multiply-add),
-//! `q + e·r` (one more), which is the rounded quotient for every byte (a test in the host suite
-//! checks all 256).
+//! correctly rounded `n/255` of the table the one-ray kernel reads as `n·h + (n·l)` with
+//! `1/255 = h + l` split into two `f32` (one product, one fused multiply-add), which is the
+//! rounded quotient for every byte (a unit test here checks all 256).
 //! `tests/fast_paths.rs` compares `cast_rays` with `cast` bit for bit when the kernel is
 //! compiled in ([`AVX2_PACKETS`](crate::render::AVX2_PACKETS)).
 //!
@@ -89,16 +88,23 @@ fn from_i32s(a: [i32; LANES]) -> __m256i {
     unsafe { core::mem::transmute::<[i32; LANES], __m256i>(a) }
 }
 
-/// `n/255` per lane for bytes `n` (0..=255), correctly rounded: the product `q = n·r` with
-/// `r = 1/255` rounded, refined once by its exact residual `e = n − 255·q` to `q + e·r`.
+/// `1/255` as the sum of two `f32`: `UNORM_HI` rounded, `UNORM_LO` the rest rounded.
+const UNORM_HI: f32 = 1.0 / 255.0;
+const UNORM_LO: f32 = (1.0f64 / 255.0 - UNORM_HI as f64) as f32;
+
+/// `n/255` per lane for bytes `n` (0..=255), correctly rounded, as `n·HI + (n·LO)` in one
+/// multiplication and one fused multiply-add (`1/255 = HI + LO` split into two `f32`). Not
+/// correctly rounded for every real `n`, but for each of the 256 bytes: a test here checks
+/// them all against the table of `voxel::unorm8`.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn unorm8(n: __m256i) -> __m256 {
-    let r = _mm256_set1_ps(1.0 / 255.0);
     let n = _mm256_cvtepi32_ps(n);
-    let q = _mm256_mul_ps(n, r);
-    let e = _mm256_fnmadd_ps(q, _mm256_set1_ps(255.0), n);
-    _mm256_fmadd_ps(e, r, q)
+    _mm256_fmadd_ps(
+        n,
+        _mm256_set1_ps(UNORM_HI),
+        _mm256_mul_ps(n, _mm256_set1_ps(UNORM_LO)),
+    )
 }
 
 /// The eight taps' voxel indices of a step, eight lanes each, as scalars (read through memory:
@@ -569,7 +575,7 @@ mod tests {
     #[target_feature(enable = "avx2,fma")]
     fn taps_check() {
         let data: [StraightU8; 10] = core::array::from_fn(|i| StraightU8([i as u8, 1, 2, 200]));
-        let word = |i: usize| i32::from_le_bytes(data[i].0);
+        let word = |i: usize| data.get(i).map_or(0, |v| i32::from_le_bytes(v.0));
         let ok = [0, 1, 2, 3, 4, 5, 8, 9];
         for bad in [None, Some(10), Some(-1), Some(i32::MAX)] {
             let mut at = [indices(ok); 8];
@@ -597,5 +603,25 @@ mod tests {
             }
         }
         assert!(!Taps::<StraightU8>::new(&[], [indices([0; LANES]); 8]).inside);
+    }
+
+    /// `unorm8` of every byte, in each lane, is the table's correctly rounded `n/255`.
+    #[test]
+    #[allow(unsafe_code)]
+    fn byte_conversion_is_the_correctly_rounded_quotient() {
+        // SAFETY: as above.
+        unsafe { unorm8_check() }
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    fn unorm8_check() {
+        for n in 0..=255 {
+            let lanes: [i32; LANES] = core::array::from_fn(|l| (n + 37 * l as i32) & 0xff);
+            let got = array(unorm8(indices(lanes)));
+            for (g, b) in got.into_iter().zip(lanes) {
+                let want = crate::voxel::unorm8(b as u8);
+                assert_eq!(g.to_bits(), want.to_bits(), "byte {b}: {g} against {want}");
+            }
+        }
     }
 }

@@ -647,24 +647,23 @@ fn render_into_is_bit_identical_to_casting_each_pixel() {
     }
 }
 
-/// The byte conversion of the AVX2 packets — `q = n·r` (`r = 1/255` rounded), then
-/// `q + e·r` with the residual `e = n − 255·q`, each step one fused multiply-add (`mul_add`
-/// rounds once, as the vector instructions do) — is the library's `unorm8(n)` for every byte,
-/// and both are `n/255` correctly rounded: `q·255` is exact in `f64` (a 24-bit significand
-/// times 255), so `|q·255 − n| ≤ 255·ulp(q)/2` is an exact test that `q` is within half an
-/// ulp of `n/255`.
+/// The byte conversion of the AVX2 packets — `n·h + (n·l)` with `h = 1/255` rounded and
+/// `l = 1/255 − h` rounded, the sum one fused multiply-add (`mul_add` rounds once, as the
+/// vector instruction does) — is the library's `unorm8(n)` for every byte, and both are
+/// `n/255` correctly rounded: `q·255` is exact in `f64` (a 24-bit significand times 255), so
+/// `|q·255 − n| ≤ 255·ulp(q)/2` is an exact test that `q` is within half an ulp of `n/255`.
+/// (The kernel's own conversion is checked against the table by a unit test in the core.)
 #[test]
 fn byte_conversion_of_the_avx2_packets_is_the_correctly_rounded_quotient() {
-    let r = 1.0f32 / 255.0;
+    let h = 1.0f32 / 255.0;
+    let l = (1.0f64 / 255.0 - f64::from(h)) as f32;
     for n in 0..=255u8 {
         let q = volsample::voxel::unorm8(n);
         let x = f32::from(n);
-        let q0 = x * r;
-        let e = (-q0).mul_add(255.0, x);
         assert_eq!(
-            e.mul_add(r, q0),
+            x.mul_add(h, x * l),
             q,
-            "byte {n}: refined product against the table"
+            "byte {n}: split product against the table"
         );
         let ulp = f64::from(f32::from_bits(q.to_bits() + 1) - q);
         let err = (f64::from(q) * 255.0 - f64::from(n)).abs();
