@@ -66,6 +66,16 @@ pub trait Voxel: Copy {
     fn rgba8(self) -> [u8; 4] {
         [0; 4]
     }
+
+    /// `data` itself where `Self` is [`StraightU8`], `None` for every other format: lets the
+    /// eight-ray lane kernel (feature `avx2`) read two neighbouring voxels as one 8-byte word
+    /// (a `StraightU8` is its four bytes in memory). Not meant to be overridden.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn as_straight_u8(data: &[Self]) -> Option<&[StraightU8]> {
+        let _ = data;
+        None
+    }
 }
 
 /// A voxel holding straight (unweighted) color and opacity.
@@ -181,6 +191,10 @@ impl Voxel for StraightU8 {
     #[inline(always)]
     fn rgba8(self) -> [u8; 4] {
         self.0
+    }
+    #[inline(always)]
+    fn as_straight_u8(data: &[Self]) -> Option<&[StraightU8]> {
+        Some(data)
     }
 }
 
