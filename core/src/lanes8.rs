@@ -1,7 +1,7 @@
 //! Eight rays in the eight `f32` lanes of AVX2 vectors: the packet kernel of
-//! [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) for `OpacityWeighted` and
-//! `Separate` trilinear (`WeightedSum`) sampling of straight RGBA8 voxels, front to back,
-//! without opacity correction or empty-space skipping.
+//! [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) for `OpacityWeighted`, `Separate`
+//! and `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of straight RGBA8 voxels,
+//! front to back, without opacity correction or empty-space skipping.
 //!
 //! Compiled only with the crate feature `avx2` **and** a target with AVX2 and FMA enabled at
 //! compile time (`-C target-feature=+avx2,+fma`, or `-C target-cpu=native` on such a CPU;
@@ -27,8 +27,11 @@
 //! `p = o + dir·t`, `⌊p⌋` and the fraction `p − ⌊p⌋`, the taps' coordinates clamped into
 //! the grid, the trilinear weights of `filter::trilinear_weights`, the mode's sums from the
 //! last tap to the first (`ω = w·α`, `Σ ω·C`, `Σ ω` for `OpacityWeighted`; `Σ w·C`, `Σ w·α`
-//! and `C̃ = α·C` for `Separate`), the clamps, and the front-to-back step — with no fused
-//! multiply-add (IEEE `+`, `−`, `×` round the same in any unit). A byte `n` becomes the
+//! and `C̃ = α·C` for `Separate`; `Σ w·C^τ`, `Σ w·τ` with `τ` from the `TauTable` and
+//! `integrate_step` for `ExtinctionWeightedU8`, its `expm1f` in lanes as the four-sample lanes
+//! compute it where a whole packet lies in the library's primary range, else per lane), the
+//! clamps, and the front-to-back step — with no fused
+//! multiply-add (IEEE `+`, `−`, `×`, `÷` round the same in any unit). A byte `n` becomes the
 //! correctly rounded `n/255` of the table the one-ray kernel reads as `n·h + (n·l)` with
 //! `1/255 = h + l` split into two `f32` (one product, one fused multiply-add), which is the
 //! rounded quotient for every byte (a unit test here checks all 256).
@@ -53,6 +56,8 @@
 
 use core::arch::x86_64::*;
 
+use crate::mode::integrate_step;
+use crate::opacity::PHI_SERIES_BELOW;
 use crate::ray::Ray;
 use crate::sample::Sample;
 use crate::volume::Volume;
@@ -64,6 +69,14 @@ const PREFETCH_STEPS: f32 = 6.0;
 
 /// Rays per packet.
 pub(crate) const LANES: usize = 8;
+
+/// The modes the kernel computes (its `MODE` parameter): `OpacityWeighted`, `Separate`, and
+/// `ExtinctionWeightedU8` (its `τ` looked up per tap, `ExtinctionWeighted`'s sums and step).
+pub(crate) const OPACITY_WEIGHTED: u8 = 0;
+/// See [`OPACITY_WEIGHTED`].
+pub(crate) const SEPARATE: u8 = 1;
+/// See [`OPACITY_WEIGHTED`].
+pub(crate) const EXTINCTION_U8: u8 = 2;
 
 /// Eight `f32` lanes from an array.
 #[inline]
@@ -313,7 +326,11 @@ impl<const A: usize> Cell<A> {
     /// taken once per face, outside the taps' loop.
     #[inline]
     #[target_feature(enable = "avx2,fma")]
-    fn read<V: Voxel, const SIDE: usize>(&mut self, taps: &Taps<'_, V>) {
+    fn read<V: Voxel, const MODE: u8, const SIDE: usize>(
+        &mut self,
+        taps: &Taps<'_, V>,
+        taus: &[f32; 256],
+    ) {
         let [f0, f1] = &mut self.faces;
         let out = if (self.near ^ SIDE) & 1 == 0 { f0 } else { f1 };
         // Across y or z, a face's taps are two x pairs (`face`); across x, none.
@@ -321,11 +338,16 @@ impl<const A: usize> Cell<A> {
             let [k0, _, k2, _] = face::<A>(SIDE);
             let [t0, t1] = taps.load_pair(k0);
             let [t2, t3] = taps.load_pair(k2);
-            *out = [channels(t0), channels(t1), channels(t2), channels(t3)];
+            *out = [
+                channels::<MODE>(t0, taus),
+                channels::<MODE>(t1, taus),
+                channels::<MODE>(t2, taus),
+                channels::<MODE>(t3, taus),
+            ];
         } else if taps.inside {
-            unpack::<V, true>(taps, face::<A>(SIDE), out);
+            unpack::<V, MODE, true>(taps, face::<A>(SIDE), out, taus);
         } else {
-            unpack::<V, false>(taps, face::<A>(SIDE), out);
+            unpack::<V, MODE, false>(taps, face::<A>(SIDE), out, taus);
         }
     }
 
@@ -350,36 +372,51 @@ impl<const A: usize> Cell<A> {
 /// Reads and converts the taps `ks` into `out`; `INSIDE` as [`Taps::load`].
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-fn unpack<V: Voxel, const INSIDE: bool>(
+fn unpack<V: Voxel, const MODE: u8, const INSIDE: bool>(
     taps: &Taps<'_, V>,
     ks: [usize; 4],
     out: &mut [[__m256; 4]; 4],
+    taus: &[f32; 256],
 ) {
     for (c, k) in out.iter_mut().zip(ks) {
-        *c = channels(taps.load::<INSIDE>(k));
+        *c = channels::<MODE>(taps.load::<INSIDE>(k), taus);
     }
 }
 
-/// The channels `[r, g, b, α]` of eight little-endian RGBA words as `f32`, each `n/255`
-/// correctly rounded.
+/// The channels of eight little-endian RGBA words as `f32`: `[r, g, b, α]`, each `n/255`
+/// correctly rounded; for `EXTINCTION_U8` `[τ·r, τ·g, τ·b, τ]` with `τ = taus[α byte]`, as
+/// `TauTable::extinction`.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-fn channels(g: __m256i) -> [__m256; 4] {
+fn channels<const MODE: u8>(g: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
     let byte = _mm256_set1_epi32(0xff);
-    [
+    let c = [
         unorm8(_mm256_and_si256(g, byte)),
         unorm8(_mm256_and_si256(_mm256_srli_epi32::<8>(g), byte)),
         unorm8(_mm256_and_si256(_mm256_srli_epi32::<16>(g), byte)),
-        unorm8(_mm256_srli_epi32::<24>(g)),
-    ]
+    ];
+    let a = _mm256_srli_epi32::<24>(g);
+    if MODE == EXTINCTION_U8 {
+        // (Every lane is a byte, so the lookup cannot miss.)
+        let t = |n: i32| taus.get(usize::from(n as u8)).copied().unwrap_or(0.0);
+        let [n0, n1, n2, n3, n4, n5, n6, n7] = to_i32s(a);
+        let tau = _mm256_setr_ps(t(n0), t(n1), t(n2), t(n3), t(n4), t(n5), t(n6), t(n7));
+        let [r, g, b] = c;
+        let mul = _mm256_mul_ps;
+        [mul(tau, r), mul(tau, g), mul(tau, b), tau]
+    } else {
+        let [r, g, b] = c;
+        [r, g, b, unorm8(a)]
+    }
 }
 
 /// The mode's sums over the taps from the last down (`mode::dot`): `OpacityWeighted` weights
-/// the colors and sums by `ω = w·α` (then `α = Σ ω`); `Separate` sums `w·C` and `w·α`.
+/// the colors and sums by `ω = w·α` (then `α = Σ ω`); `Separate` sums `w·C` and `w·α`, and
+/// `ExtinctionWeightedU8` `w·C^τ` and `w·τ` the same way (`mode::dot_lanes8`).
 /// `[Σ r, Σ g, Σ b, Σ α]`, of the channels `pair(p)` of taps `2p` and `2p + 1`.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-fn mode_sums<const SEPARATE: bool>(
+fn mode_sums<const MODE: u8>(
     pair: impl Fn(usize) -> [[__m256; 4]; 2],
     w: &[__m256; 8],
 ) -> [__m256; 4] {
@@ -393,7 +430,7 @@ fn mode_sums<const SEPARATE: bool>(
     {
         let [lo, hi] = pair(p);
         for (first, wk, [r, gr, b, a]) in [(p == 3, wh, hi), (false, wl, lo)] {
-            let (wc, wa) = if SEPARATE {
+            let (wc, wa) = if MODE != OPACITY_WEIGHTED {
                 (wk, mul(wk, a))
             } else {
                 let om = mul(wk, a);
@@ -414,6 +451,71 @@ fn mode_sums<const SEPARATE: bool>(
     s
 }
 
+/// `integrate_step(C^τ, τ, d)` per lane before its clamps (which the caller applies; they
+/// leave an already clamped sample as it is): `(C̃, α)` from the sums `[C^τ…, τ]`. Where every
+/// lane's `x = max(τ, 0)·d` lies in `libm::expm1f`'s primary range or below it
+/// (`|x| ≤ ½ ln 2`), in lanes with `opacity::expm1f_x4`'s operations (and `expm1f`'s `x` itself
+/// below `2⁻²⁵`), then `φ` and `C̃ = C^τ·d·φ` as `integrate_step`; otherwise
+/// `integrate_step` per lane.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn extinction_step(s: [__m256; 4], d: f32) -> ([__m256; 3], __m256) {
+    let (add, sub, mul, div) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps, _mm256_div_ps);
+    let [c0, c1, c2, tau] = s;
+    let k = _mm256_set1_ps;
+    // `tau.max(0.0)` (NaN to 0), `x = τ·d`.
+    let x = mul(_mm256_max_ps(tau, _mm256_setzero_ps()), k(d));
+    let bits = _mm256_and_si256(_mm256_castps_si256(x), _mm256_set1_epi32(0x7fff_ffff));
+    let in_range = _mm256_cmpgt_epi32(_mm256_set1_epi32(0x3eb1_7219), bits);
+    if _mm256_movemask_epi8(in_range) != -1 {
+        let [c0, c1, c2, tau] = [c0, c1, c2, tau].map(|v| array(v));
+        let mut out = [[0.0f32; LANES]; 4];
+        let [o0, o1, o2, oa] = &mut out;
+        let lanes_in = c0.into_iter().zip(c1).zip(c2).zip(tau);
+        let lanes_out = o0
+            .iter_mut()
+            .zip(o1.iter_mut())
+            .zip(o2.iter_mut())
+            .zip(oa.iter_mut());
+        for ((((r, g), b), t), (((or, og), ob), oa)) in lanes_in.zip(lanes_out) {
+            let sample = integrate_step([r, g, b], t, d);
+            [*or, *og, *ob] = sample.c;
+            *oa = sample.a;
+        }
+        let [r, g, b, a] = out.map(|l| lanes(l));
+        return ([r, g, b], a);
+    }
+    // `libm::expm1f(y)`, `y = −x`: FreeBSD's `s_expm1f.c` for `k = 0` as `expm1f_x4`, and `y`
+    // itself where `|y| < 2⁻²⁵`, as the library returns it (the polynomial gave the same there
+    // in the tests, so no test sees this blend; it states the library's rule).
+    let y = _mm256_xor_ps(x, k(-0.0));
+    let (q1, q2) = (
+        k(f32::from_bits(0xbd08_8868)),
+        k(f32::from_bits(0x3acf_3010)),
+    );
+    let hfx = mul(k(0.5), y);
+    let hxs = mul(y, hfx);
+    let r1 = add(k(1.0), mul(hxs, add(q1, mul(hxs, q2))));
+    let t = sub(k(3.0), mul(r1, hfx));
+    let e = mul(hxs, div(sub(r1, t), sub(k(6.0), mul(y, t))));
+    let em1 = sub(y, sub(mul(y, e), hxs));
+    let tiny = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(0x3300_0000), bits));
+    let em1 = _mm256_blendv_ps(em1, y, tiny);
+    let a = _mm256_xor_ps(em1, k(-0.0));
+    // `phi_with(x, || a)`: its series below `PHI_SERIES_BELOW`, else `a / x`.
+    let series = sub(
+        k(1.0),
+        mul(
+            x,
+            sub(k(0.5), mul(x, sub(k(1.0 / 6.0), mul(x, k(1.0 / 24.0))))),
+        ),
+    );
+    let below = _mm256_cmp_ps::<_CMP_LT_OQ>(x, k(PHI_SERIES_BELOW));
+    let phi = _mm256_blendv_ps(div(a, x), series, below);
+    let g = mul(k(d), phi);
+    ([mul(c0, g), mul(c1, g), mul(c2, g)], a)
+}
+
 /// Whether the kernel can index `vol` with `i32` lanes.
 #[inline(always)]
 pub(crate) fn fits<V: Voxel>(vol: &Volume<'_, V>) -> bool {
@@ -422,16 +524,18 @@ pub(crate) fn fits<V: Voxel>(vol: &Volume<'_, V>) -> bool {
 
 /// Marches eight rays front to back, lane `l` over the samples `t₀ + j·d`, `j < n`, with
 /// `(t₀, n) = ranges[l]`, stopping a lane once its `A ≥ a_stop`: the accumulated samples
-/// before the background, bit-identical to the one-ray march of `OpacityWeighted` (or of
-/// `Separate` where `SEPARATE`). `V` must be [`Voxel::STRAIGHT_RGBA8`] and `vol` must
-/// [`fits`].
+/// before the background, bit-identical to the one-ray march of the mode `MODE`
+/// ([`OPACITY_WEIGHTED`], [`SEPARATE`], or [`EXTINCTION_U8`] with the `τ` of every opacity
+/// byte in `taus`; the other modes ignore it). `V` must be [`Voxel::STRAIGHT_RGBA8`] and `vol`
+/// must [`fits`].
 #[allow(unsafe_code)]
-pub(crate) fn march8<V: Voxel, const SEPARATE: bool>(
+pub(crate) fn march8<V: Voxel, const MODE: u8>(
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     ranges: &[(f32, u32); LANES],
     d: f32,
     a_stop: f32,
+    taus: &[f32; 256],
 ) -> [Sample; LANES] {
     // SAFETY: (`unsafe` is allowed only in this module, in builds with the feature `avx2`.)
     // `march8_avx2` needs a CPU with AVX2 and FMA; this module is compiled only when the build
@@ -441,12 +545,12 @@ pub(crate) fn march8<V: Voxel, const SEPARATE: bool>(
     unsafe {
         let [r0, ..] = rays;
         if rays.iter().any(|r| r.dir() != r0.dir()) {
-            march8_avx2::<V, SEPARATE, 2, false>(vol, rays, ranges, d, a_stop)
+            march8_avx2::<V, MODE, 2, false>(vol, rays, ranges, d, a_stop, taus)
         } else {
             match major_axis(r0.dir()) {
-                0 => march8_avx2::<V, SEPARATE, 0, true>(vol, rays, ranges, d, a_stop),
-                1 => march8_avx2::<V, SEPARATE, 1, true>(vol, rays, ranges, d, a_stop),
-                _ => march8_avx2::<V, SEPARATE, 2, true>(vol, rays, ranges, d, a_stop),
+                0 => march8_avx2::<V, MODE, 0, true>(vol, rays, ranges, d, a_stop, taus),
+                1 => march8_avx2::<V, MODE, 1, true>(vol, rays, ranges, d, a_stop, taus),
+                _ => march8_avx2::<V, MODE, 2, true>(vol, rays, ranges, d, a_stop, taus),
             }
         }
     }
@@ -470,12 +574,13 @@ fn major_axis(dir: [f32; 3]) -> usize {
 /// ns/sample.)
 #[inline(never)]
 #[target_feature(enable = "avx2,fma")]
-fn march8_avx2<V: Voxel, const SEPARATE: bool, const A: usize, const REUSE: bool>(
+fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     ranges: &[(f32, u32); LANES],
     d: f32,
     a_stop: f32,
+    taus: &[f32; 256],
 ) -> [Sample; LANES] {
     let data = vol.data();
     let [nx, ny, nz] = vol.dims().map(|n| n as i32);
@@ -609,34 +714,42 @@ fn march8_avx2<V: Voxel, const SEPARATE: bool, const A: usize, const REUSE: bool
                 if same(at[0], far0, Cell::<A>::near7(&at), c7) {
                     cell.near ^= 1;
                 } else {
-                    cell.read::<V, 0>(&taps);
+                    cell.read::<V, MODE, 0>(&taps, taus);
                 }
-                cell.read::<V, 1>(&taps);
+                cell.read::<V, MODE, 1>(&taps, taus);
                 cell.at = [at[0], at[7], Cell::<A>::far0(&at)];
             }
-            mode_sums::<SEPARATE>(|p| [cell.tap(2 * p), cell.tap(2 * p + 1)], &w)
+            mode_sums::<MODE>(|p| [cell.tap(2 * p), cell.tap(2 * p + 1)], &w)
         } else {
             let taps = Taps::new(data, at);
-            let pair = |[lo, hi]: [__m256i; 2]| [channels(lo), channels(hi)];
+            let pair =
+                |[lo, hi]: [__m256i; 2]| [channels::<MODE>(lo, taus), channels::<MODE>(hi, taus)];
             if taps.pairs {
-                mode_sums::<SEPARATE>(|p| pair(taps.load_pair(2 * p)), &w)
+                mode_sums::<MODE>(|p| pair(taps.load_pair(2 * p)), &w)
             } else if taps.inside {
                 let two = |k| [taps.load::<true>(k), taps.load::<true>(k + 1)];
-                mode_sums::<SEPARATE>(|p| pair(two(2 * p)), &w)
+                mode_sums::<MODE>(|p| pair(two(2 * p)), &w)
             } else {
                 let two = |k| [taps.load::<false>(k), taps.load::<false>(k + 1)];
-                mode_sums::<SEPARATE>(|p| pair(two(2 * p)), &w)
+                mode_sums::<MODE>(|p| pair(two(2 * p)), &w)
             }
         };
         // `Sample::clamped`: `α` into [0, 1] (NaN to 0), each color into [0, α]; `Separate`
-        // first weights the colors by the clamped `α` (its `finish`).
-        let a = _mm256_min_ps(_mm256_max_ps(s[3], zf), one);
-        let c = if SEPARATE {
-            [mul(s[0], a), mul(s[1], a), mul(s[2], a)]
+        // first weights the colors by the clamped `α` (its `finish`), `ExtinctionWeightedU8`
+        // integrates the step (`integrate_step`).
+        let (a, c) = if MODE == EXTINCTION_U8 {
+            let (c, a) = extinction_step(s, d);
+            (_mm256_min_ps(_mm256_max_ps(a, zf), one), c)
         } else {
-            [s[0], s[1], s[2]]
+            let a = _mm256_min_ps(_mm256_max_ps(s[3], zf), one);
+            if MODE == SEPARATE {
+                (a, [mul(s[0], a), mul(s[1], a), mul(s[2], a)])
+            } else {
+                (a, [s[0], s[1], s[2]])
+            }
         };
-        let [cr, cg, cb] = c.map(|c| _mm256_min_ps(_mm256_max_ps(c, zf), a));
+        let clamp = |c| _mm256_min_ps(_mm256_max_ps(c, zf), a);
+        let [cr, cg, cb] = [clamp(c[0]), clamp(c[1]), clamp(c[2])];
 
         // `front_to_back`, kept in the live lanes only.
         let tr = sub(one, aa);
@@ -758,6 +871,80 @@ mod tests {
                 let want = [taps.load::<false>(k), taps.load::<false>(k + 1)].map(to_i32s);
                 assert_eq!(taps.load_pair(k).map(to_i32s), want, "tap {k}, {pairs}");
                 assert_eq!(others.load_pair(k).map(to_i32s), want, "tap {k}, {pairs}");
+            }
+        }
+    }
+
+    /// `extinction_step`, clamped as the kernel clamps it, is `integrate_step` in every lane:
+    /// packets of sums all within `expm1f`'s primary range or at 0 (the lanes' path) and mixed
+    /// with larger, NaN and infinite `τ` (the per-lane path).
+    #[test]
+    #[allow(unsafe_code)]
+    fn extinction_step_is_integrate_step_per_lane() {
+        // SAFETY: as above.
+        unsafe { extinction_check() }
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    fn extinction_check() {
+        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+        let mut unit = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let clamp =
+            |v: __m256, hi: __m256| _mm256_min_ps(_mm256_max_ps(v, _mm256_setzero_ps()), hi);
+        for case in 0..20_000 {
+            let d = match case % 4 {
+                0 => 0.5,
+                1 => 1.0,
+                2 => 0.3,
+                _ => 2.0,
+            };
+            let wild = case % 3 == 0;
+            let s: [[f32; LANES]; 4] = core::array::from_fn(|k| {
+                core::array::from_fn(|l| {
+                    let u = unit();
+                    if k < 3 {
+                        u * 0.3
+                    } else if l == case % 8 && u < 0.1 {
+                        match l % 4 {
+                            0 => 0.0,
+                            1 => 1e-9,
+                            2 => 3e-5,
+                            _ => 2e-4,
+                        }
+                    } else if wild && l == 3 {
+                        match case % 4 {
+                            0 => f32::NAN,
+                            1 => f32::INFINITY,
+                            2 => 40.0,
+                            _ => -1.0,
+                        }
+                    } else {
+                        u * 0.34 / d
+                    }
+                })
+            });
+            let (c, a) = extinction_step(s.map(|v| lanes(v)), d);
+            let a = clamp(a, _mm256_set1_ps(1.0));
+            let c = c.map(|c| array(clamp(c, a)));
+            let a = array(a);
+            for l in 0..LANES {
+                let [r, g, b, t] = s.map(|v| v.get(l).copied().unwrap_or(0.0));
+                let want = integrate_step([r, g, b], t, d);
+                let got = c.map(|c| c.get(l).copied().unwrap_or(-1.0));
+                let got_a = a.get(l).copied().unwrap_or(-1.0);
+                assert_eq!(
+                    got_a.to_bits(),
+                    want.a.to_bits(),
+                    "α, case {case}, lane {l}"
+                );
+                for (g, w) in got.into_iter().zip(want.c) {
+                    assert_eq!(g.to_bits(), w.to_bits(), "C̃, case {case}, lane {l}");
+                }
             }
         }
     }

@@ -405,9 +405,10 @@ where
     /// Casts every ray of `rays` into `out` (`out[i]` is `cast(&rays[i])`, bit for bit), four
     /// at a time with [`cast4`](Self::cast4) — or eight at a time in AVX2 lanes where
     /// [`AVX2_PACKETS`] (crate feature `avx2`, a build for an AVX2 CPU) and the marcher is
-    /// `OpacityWeighted` or `Separate`, `Trilinear<WeightedSum>`, over `StraightU8`, front to
-    /// back without correction or skipping: in the `ray_march` bench (2-core AMD EPYC) that took
-    /// 0.34 of `cast`'s time.
+    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8`, `Trilinear<WeightedSum>`, over
+    /// `StraightU8`, front to back without correction or skipping: in the `ray_march` bench
+    /// (2-core AMD EPYC, coherent rays) that took 0.20 of `cast`'s time for
+    /// `OpacityWeighted`.
     ///
     /// Packets overlap the four rays' chains of dependent operations; so does
     /// [`cast`](Self::cast) with four consecutive samples of one ray in lanes, which wastes no
@@ -442,8 +443,8 @@ where
         Ok(())
     }
 
-    /// Where the eight-ray AVX2 kernel applies ([`AVX2_PACKETS`] and an `OpacityWeighted` or
-    /// `Separate`, `Trilinear<WeightedSum>`, straight-RGBA8, front-to-back marcher without
+    /// Where the eight-ray AVX2 kernel applies ([`AVX2_PACKETS`] and an `OpacityWeighted`,
+    /// `Separate` or `ExtinctionWeightedU8`, `Trilinear<WeightedSum>`, straight-RGBA8, front-to-back marcher without
     /// correction or skipping), casts the leading multiple of eight rays with it and returns
     /// the rest; otherwise returns all of them.
     #[cfg(all(
@@ -457,8 +458,9 @@ where
         rays: &'r [Ray],
         out: &'o mut [Sample],
     ) -> (&'r [Ray], &'o mut [Sample]) {
-        use crate::lanes8::{march8, LANES};
+        use crate::lanes8::{march8, EXTINCTION_U8, LANES, OPACITY_WEIGHTED, SEPARATE};
         let separate = <M as Mode<V>>::SEPARATE;
+        let taus = self.mode.tau_table().map(|t| t.taus());
         // (`cast_rays` checked that `out` is as long as `rays`.)
         if !self.eight_ray_packets() || out.len() != rays.len() {
             return (rays, out);
@@ -470,10 +472,13 @@ where
         for (r, o) in r8.chunks_exact(LANES).zip(o8.chunks_exact_mut(LANES)) {
             if let Ok(r) = <&[Ray; LANES]>::try_from(r) {
                 let ranges = r.each_ref().map(|r| self.samples(r));
-                let acc = if separate {
-                    march8::<V, true>(&self.volume, r, &ranges, self.step.d, a_stop)
-                } else {
-                    march8::<V, false>(&self.volume, r, &ranges, self.step.d, a_stop)
+                let (vol, d) = (&self.volume, self.step.d);
+                let acc = match taus {
+                    Some(t) => march8::<V, EXTINCTION_U8>(vol, r, &ranges, d, a_stop, t),
+                    None if separate => {
+                        march8::<V, SEPARATE>(vol, r, &ranges, d, a_stop, &[0.0; 256])
+                    }
+                    None => march8::<V, OPACITY_WEIGHTED>(vol, r, &ranges, d, a_stop, &[0.0; 256]),
                 };
                 for (o, a) in o.iter_mut().zip(acc) {
                     *o = over(a, self.background);
@@ -484,7 +489,7 @@ where
     }
 
     /// Whether the eight-ray AVX2 kernel applies to this marcher ([`AVX2_PACKETS`] and an
-    /// `OpacityWeighted` or `Separate`, `Trilinear<WeightedSum>`, straight-RGBA8,
+    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8`, `Trilinear<WeightedSum>`, straight-RGBA8,
     /// front-to-back marcher without correction or skipping, over a volume it can index).
     #[inline]
     fn eight_ray_packets(&self) -> bool {
@@ -496,7 +501,9 @@ where
         ))]
         {
             V::STRAIGHT_RGBA8
-                && (<M as Mode<V>>::OPACITY_WEIGHTED || <M as Mode<V>>::SEPARATE)
+                && (<M as Mode<V>>::OPACITY_WEIGHTED
+                    || <M as Mode<V>>::SEPARATE
+                    || self.mode.tau_table().is_some())
                 && F::TRILINEAR_WEIGHTED_SUM
                 && O::FRONT_TO_BACK
                 && !S::SKIPS
@@ -660,8 +667,8 @@ where
 }
 
 /// Whether [`RayMarcher::cast_rays`] marches eight rays at once in AVX2 lanes (the module
-/// `lanes8`, bit-identical to [`RayMarcher::cast`]) for `OpacityWeighted` and `Separate`
-/// trilinear (`WeightedSum`) sampling of [`StraightU8`](crate::StraightU8) voxels front to
+/// `lanes8`, bit-identical to [`RayMarcher::cast`]) for `OpacityWeighted`, `Separate` and
+/// `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of [`StraightU8`](crate::StraightU8) voxels front to
 /// back without opacity correction or skipping: `true` when the crate feature `avx2` is on
 /// **and** the build targets a CPU with AVX2 and FMA (`-C target-feature=+avx2,+fma`, or
 /// `-C target-cpu=native` on such a CPU). The rays beyond the last multiple of eight, and

@@ -61,6 +61,12 @@ impl TauTable {
         self.d_ref
     }
 
+    /// `τ` of every opacity byte (the eight-ray lane kernel's lookups).
+    #[inline(always)]
+    pub(crate) fn taus(&self) -> &[f32; 256] {
+        &self.tau
+    }
+
     /// `τ` of opacity byte `n`.
     #[inline(always)]
     pub fn tau(&self, n: u8) -> f32 {
@@ -141,6 +147,11 @@ impl sealed::Sealed for ExtinctionWeightedU8<'_> {}
 
 impl Mode<StraightU8> for ExtinctionWeightedU8<'_> {
     const OPACITY_BASED: bool = false;
+
+    #[inline(always)]
+    fn tau_table(&self) -> Option<&TauTable> {
+        Some(self.table)
+    }
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[StraightU8; K], w: &[T; K]) -> Interp<T> {

@@ -55,6 +55,14 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     #[doc(hidden)]
     const SEPARATE: bool = false;
 
+    /// The `τ` table of [`ExtinctionWeightedU8`], the third mode the eight-ray lane kernel
+    /// computes; `None` for the others.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn tau_table(&self) -> Option<&TauTable> {
+        None
+    }
+
     /// Interpolates `K` taps as a sum of weighted products (weights `w`, summing to 1).
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T>;
 
