@@ -444,9 +444,9 @@ where
     }
 
     /// Where the eight-ray AVX2 kernel applies ([`AVX2_PACKETS`] and an `OpacityWeighted`,
-    /// `Separate` or `ExtinctionWeightedU8`, `Trilinear<WeightedSum>`, straight-RGBA8, front-to-back marcher without
-    /// correction or skipping), casts the leading multiple of eight rays with it and returns
-    /// the rest; otherwise returns all of them.
+    /// `Separate` or `ExtinctionWeightedU8`, `Trilinear<WeightedSum>`, straight-RGBA8,
+    /// front-to-back marcher without correction or skipping), casts the leading multiple of
+    /// eight rays with it and returns the rest; otherwise returns all of them.
     #[cfg(all(
         feature = "avx2",
         target_arch = "x86_64",
@@ -489,8 +489,9 @@ where
     }
 
     /// Whether the eight-ray AVX2 kernel applies to this marcher ([`AVX2_PACKETS`] and an
-    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8`, `Trilinear<WeightedSum>`, straight-RGBA8,
-    /// front-to-back marcher without correction or skipping, over a volume it can index).
+    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8`, `Trilinear<WeightedSum>`,
+    /// straight-RGBA8, front-to-back marcher without correction or skipping, over a volume
+    /// it can index).
     #[inline]
     fn eight_ray_packets(&self) -> bool {
         #[cfg(all(
@@ -668,8 +669,9 @@ where
 
 /// Whether [`RayMarcher::cast_rays`] marches eight rays at once in AVX2 lanes (the module
 /// `lanes8`, bit-identical to [`RayMarcher::cast`]) for `OpacityWeighted`, `Separate` and
-/// `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of [`StraightU8`](crate::StraightU8) voxels front to
-/// back without opacity correction or skipping: `true` when the crate feature `avx2` is on
+/// `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of
+/// [`StraightU8`](crate::StraightU8) voxels front to back without opacity correction or
+/// skipping: `true` when the crate feature `avx2` is on
 /// **and** the build targets a CPU with AVX2 and FMA (`-C target-feature=+avx2,+fma`, or
 /// `-C target-cpu=native` on such a CPU). The rays beyond the last multiple of eight, and
 /// every other configuration, take the four-ray packets.
