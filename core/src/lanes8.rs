@@ -622,10 +622,46 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
     let ione = _mm256_set1_epi32(1);
     let (sx, sy) = (_mm256_set1_epi32(nx), _mm256_set1_epi32(nx * ny));
 
-    let (mut ar, mut ag, mut ab, mut aa) = (zf, zf, zf, zf);
+    let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
+    // The sample of the sums `s`, `Sample::clamped`: `α` into [0, 1] (NaN to 0), each color
+    // into [0, α]; `Separate` first weights the colors by the clamped `α` (its `finish`),
+    // `ExtinctionWeightedU8` integrates the step (`integrate_step`).
+    let finish = |s: [__m256; 4]| {
+        let (a, c) = if MODE == EXTINCTION_U8 {
+            let (c, a) = extinction_step(s, d);
+            (_mm256_min_ps(_mm256_max_ps(a, zf), one), c)
+        } else {
+            let a = _mm256_min_ps(_mm256_max_ps(s[3], zf), one);
+            if MODE == SEPARATE {
+                (a, [mul(s[0], a), mul(s[1], a), mul(s[2], a)])
+            } else {
+                (a, [s[0], s[1], s[2]])
+            }
+        };
+        let clamp = |c| _mm256_min_ps(_mm256_max_ps(c, zf), a);
+        [clamp(c[0]), clamp(c[1]), clamp(c[2]), a]
+    };
+    // `front_to_back` of sample `[cr, cg, cb, a]` onto `acc`, kept in the live lanes only.
+    let over = |acc: [__m256; 4], [cr, cg, cb, a]: [__m256; 4], live: __m256| {
+        let [ar, ag, ab, aa] = acc;
+        let tr = sub(one, aa);
+        [
+            _mm256_blendv_ps(ar, add(ar, mul(tr, cr)), live),
+            _mm256_blendv_ps(ag, add(ag, mul(tr, cg)), live),
+            _mm256_blendv_ps(ab, add(ab, mul(tr, cb)), live),
+            _mm256_blendv_ps(aa, add(aa, mul(tr, a)), live),
+        ]
+    };
+
+    let mut acc = [zf; 4];
     // Lanes still compositing: before their last sample and not yet stopped.
     let mut live = _mm256_castsi256_ps(_mm256_cmpgt_epi32(count, zero));
     let mut cell = Cell::<A>::new();
+    // `ExtinctionWeightedU8` only: the sums of the step before, finished and composited after
+    // this step's sums (software pipelining: the step's long chain of dependent operations,
+    // two divisions among them, then overlaps the next sample's work; same operations, same
+    // order of compositing, so the same results).
+    let mut pending: Option<[__m256; 4]> = None;
     let mut j = 0u32;
     while j < steps && _mm256_movemask_ps(live) != 0 {
         // The sample position, as `Ray::at(t_first + j·d)`.
@@ -735,37 +771,33 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
                 mode_sums::<MODE>(|p| pair(two(2 * p)), &w)
             }
         };
-        // `Sample::clamped`: `α` into [0, 1] (NaN to 0), each color into [0, α]; `Separate`
-        // first weights the colors by the clamped `α` (its `finish`), `ExtinctionWeightedU8`
-        // integrates the step (`integrate_step`).
-        let (a, c) = if MODE == EXTINCTION_U8 {
-            let (c, a) = extinction_step(s, d);
-            (_mm256_min_ps(_mm256_max_ps(a, zf), one), c)
-        } else {
-            let a = _mm256_min_ps(_mm256_max_ps(s[3], zf), one);
-            if MODE == SEPARATE {
-                (a, [mul(s[0], a), mul(s[1], a), mul(s[2], a)])
-            } else {
-                (a, [s[0], s[1], s[2]])
+        // The sums to composite now: this step's, or the step's before (`pending`).
+        let s = if MODE == EXTINCTION_U8 {
+            match pending.replace(s) {
+                Some(before) => before,
+                None => {
+                    j += 1;
+                    continue;
+                }
             }
+        } else {
+            s
         };
-        let clamp = |c| _mm256_min_ps(_mm256_max_ps(c, zf), a);
-        let [cr, cg, cb] = [clamp(c[0]), clamp(c[1]), clamp(c[2])];
-
-        // `front_to_back`, kept in the live lanes only.
-        let tr = sub(one, aa);
-        ar = _mm256_blendv_ps(ar, add(ar, mul(tr, cr)), live);
-        ag = _mm256_blendv_ps(ag, add(ag, mul(tr, cg)), live);
-        ab = _mm256_blendv_ps(ab, add(ab, mul(tr, cb)), live);
-        aa = _mm256_blendv_ps(aa, add(aa, mul(tr, a)), live);
-
-        j += 1;
-        // A lane stops after its last sample, or once `A ≥ A_stop` (`Termination::done`).
-        let more = _mm256_castsi256_ps(_mm256_cmpgt_epi32(count, _mm256_set1_epi32(j as i32)));
-        let done = _mm256_cmp_ps::<_CMP_GE_OQ>(aa, stop);
+        acc = over(acc, finish(s), live);
+        // A lane stops after its last sample, or once `A ≥ A_stop` (`Termination::done`); the
+        // sample just composited is `j − 1` where pipelined, else `j`.
+        let next = if MODE == EXTINCTION_U8 { j } else { j + 1 };
+        let more = _mm256_castsi256_ps(_mm256_cmpgt_epi32(count, _mm256_set1_epi32(next as i32)));
+        let done = _mm256_cmp_ps::<_CMP_GE_OQ>(acc[3], stop);
         live = _mm256_andnot_ps(done, _mm256_and_ps(live, more));
+        j += 1;
     }
-    let [r, g, b, a] = [array(ar), array(ag), array(ab), array(aa)];
+    if let Some(last) = pending {
+        if _mm256_movemask_ps(live) != 0 {
+            acc = over(acc, finish(last), live);
+        }
+    }
+    let [r, g, b, a] = acc.map(|v| array(v));
     let mut out = [Sample::TRANSPARENT; LANES];
     for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
         *o = Sample { c: [r, g, b], a };
