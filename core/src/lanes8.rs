@@ -717,7 +717,6 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
         ];
 
         // `filter::trilinear_weights`, operation for operation.
-        let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
         let xy = mul(fx, fy);
         let xz = mul(fx, fz);
         let yz = mul(fy, fz);
