@@ -37,8 +37,8 @@
 //! # Ok::<(), volsample::Error>(())
 //! ```
 #![no_std]
-// No `unsafe` anywhere, except in the AVX2 kernel (`lanes8`: its entry, two bit casts and
-// the voxel loads after their bounds test) in builds with the opt-in feature `avx2`, and the
+// No `unsafe` anywhere, except in the AVX2 kernel (`lanes8`: its two entries, float and
+// integer, two bit casts and the voxel loads after their bounds tests) in builds with the opt-in feature `avx2`, and the
 // entry of the SSE2 integer kernel (`fixed_point::sse2`) with the feature `sse2`, where the
 // crate denies it everywhere else.
 #![cfg_attr(not(any(feature = "avx2", feature = "sse2")), forbid(unsafe_code))]

@@ -652,18 +652,9 @@ where
         if !self.eight_ray_packets() {
             return trace_image(camera, width, height, image, |ray| self.cast(ray));
         }
-        check_image(width, height, image.len())?;
-        for (j, row) in image.chunks_exact_mut(width).enumerate() {
-            for (k, px) in row.chunks_mut(8).enumerate() {
-                let i0 = 8 * k;
-                // A short last chunk repeats its last pixel's ray; only `px.len()` are cast.
-                let rays: [Ray; 8] =
-                    core::array::from_fn(|l| camera.ray((i0 + l).min(width - 1), j, width, height));
-                let rays = rays.get(..px.len()).unwrap_or(&rays);
-                self.cast_rays(rays, px)?;
-            }
-        }
-        Ok(())
+        trace_rows8(camera, width, height, image, |rays, px| {
+            self.cast_rays(rays, px)
+        })
     }
 }
 
@@ -720,6 +711,33 @@ fn check_image(width: usize, height: usize, len: usize) -> Result<(), Error> {
             expected,
             actual: len,
         });
+    }
+    Ok(())
+}
+
+/// Fills a `width × height` image (row-major, row 0 at the top) by `cast_rays` of eight
+/// pixels of a row at a time (a short last chunk of a row: its own pixels only), after
+/// checking the image size: the eight-ray packets' pixel loop of both ray marchers.
+///
+/// # Errors
+/// As [`trace_image`], and those of `cast_rays`.
+pub(crate) fn trace_rows8<P, Cam: Camera>(
+    camera: &Cam,
+    width: usize,
+    height: usize,
+    image: &mut [P],
+    mut cast_rays: impl FnMut(&[Ray], &mut [P]) -> Result<(), Error>,
+) -> Result<(), Error> {
+    check_image(width, height, image.len())?;
+    for (j, row) in image.chunks_exact_mut(width).enumerate() {
+        for (k, px) in row.chunks_mut(8).enumerate() {
+            let i0 = 8 * k;
+            // A short last chunk repeats its last pixel's ray; only `px.len()` are cast.
+            let rays: [Ray; 8] =
+                core::array::from_fn(|l| camera.ray((i0 + l).min(width - 1), j, width, height));
+            let rays = rays.get(..px.len()).unwrap_or(&rays);
+            cast_rays(rays, px)?;
+        }
     }
     Ok(())
 }

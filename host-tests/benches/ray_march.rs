@@ -22,7 +22,9 @@
 //! Built with the feature `avx2` for an AVX2 CPU (`RUSTFLAGS="-C target-feature=+avx2,+fma"
 //! cargo bench -p volsample-host --features avx2 --bench ray_march`), the `OpacityWeighted` and
 //! `Separate` packets march eight rays at a time in AVX2 lanes (`render::AVX2_PACKETS`), and
-//! so does `render_into` (the `_render_into` row; one ray at a time in other builds).
+//! so does `render_into` (the `_render_into` row; one ray at a time in other builds). The
+//! integer `OpacityWeighted` packets (`IntRayMarcher::cast_rays`) march eight rays in AVX2
+//! lanes in that build (`fixed_point::AVX2_INT_PACKETS`), one at a time in others.
 //!
 //! Built with the feature `sse2` (`cargo bench -p volsample-host --features sse2 --bench
 //! ray_march`, any x86-64), the integer `OpacityWeighted` rows run the SSE2 kernel
@@ -191,7 +193,8 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         "yardstick: hand-tuned, {} ray(s)/pass (not volsample)",
         yardstick::tuned_rays_lanes()
     );
-    let passes: [(&str, &dyn Fn() -> f32); 13] = [
+    let int_out = RefCell::new(vec![IntSample::TRANSPARENT; rays.len()]);
+    let passes: [(&str, &dyn Fn() -> f32); 14] = [
         ("OpacityWeighted f32", &|| {
             rays.iter().map(|r| all_channels(ow.cast(r))).sum()
         }),
@@ -227,6 +230,11 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         ("ExtinctionWeightedU8, packets", &|| {
             packets(&em8, rays, &mut out.borrow_mut())
         }),
+        ("OpacityWeighted int F=8, packets", &|| {
+            let mut o = int_out.borrow_mut();
+            int_ow.cast_rays(rays, &mut o).unwrap();
+            o.iter().map(|p| all_channels_int(*p) as f32).sum()
+        }),
         ("yardstick: hand-tuned loop (not volsample)", &|| {
             yard(yardstick::tuned)
         }),
@@ -240,7 +248,7 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
     // over all of them instead of falling on one.
     let mut per = vec![Vec::new(); passes.len()];
     for round in 0..rounds {
-        let mut t = [0.0f64; 13];
+        let mut t = [0.0f64; 14];
         for k in 0..passes.len() {
             let i = (round + k) % passes.len();
             t[i] = time(passes[i].1);
@@ -272,7 +280,7 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         }
     );
     for (k, ((name, _), p)) in passes.iter().zip(&per).enumerate() {
-        let packed = if (6..10).contains(&k) {
+        let packed = if (6..11).contains(&k) {
             format!("   / OW f32 packets: {:.3}", ratio(p, &per[6]))
         } else {
             String::new()
@@ -413,6 +421,13 @@ fn bench(c: &mut Criterion) {
                 s += all_channels_int(p);
             }
             black_box(s)
+        })
+    });
+    let mut int_out = vec![IntSample::TRANSPARENT; rays256.len()];
+    g.bench_function("ow_int_f8_u8_256_packets", |b| {
+        b.iter(|| {
+            int_ow.cast_rays(&rays256, &mut int_out).unwrap();
+            black_box(int_out.iter().map(|p| all_channels_int(*p)).sum::<u32>())
         })
     });
 

@@ -20,7 +20,9 @@
 
 use volsample::composite::{back_to_front, front_to_back, over, Order, Termination};
 use volsample::filter::trilinear_weights;
-use volsample::fixed_point::{IntMode, IntPos, IntSampler, IntWeights};
+use volsample::fixed_point::{
+    IntMode, IntPos, IntRayMarcher, IntSample, IntSampler, IntStop, IntWeights,
+};
 use volsample::mode::{ExtinctionWeightedU8, TauTable};
 use volsample::opacity::correct;
 use volsample::skip::Skipping;
@@ -853,6 +855,133 @@ fn coherent_packets_are_bit_identical_to_single_rays() {
         check!(ext, "ExtinctionWeightedU8, soft", soft_vol);
     }
     assert!(rays_checked > 1000, "{rays_checked} rays");
+}
+
+/// The integer packets of `IntRayMarcher::cast_rays` and `render_into` (eight rays in AVX2
+/// lanes where `fixed_point::AVX2_INT_PACKETS`, one at a time elsewhere) against `cast`, bit
+/// for bit: random rays through random volumes; rows of parallel rays (where the kernel
+/// reuses a cell's taps); rows whose origins lie on the `1/512`-voxel grid along axis-aligned
+/// directions with phase 0, so that many positions lie exactly halfway between two
+/// quantized ones (where **round half up** decides); thresholds from `1` to `ONE` and a
+/// background; images of whole packets and remainders. With `VOLSAMPLE_EXPECT_AVX2=1` it
+/// fails unless the kernel is compiled in.
+#[test]
+fn integer_packets_are_bit_identical_to_single_rays() {
+    if std::env::var_os("VOLSAMPLE_EXPECT_AVX2").is_some() {
+        assert!(
+            std::hint::black_box(volsample::fixed_point::AVX2_INT_PACKETS),
+            "VOLSAMPLE_EXPECT_AVX2 is set but the integer AVX2 packets are not compiled in"
+        );
+    }
+    let mut rng = Rng(0x1A7E_6E12_0000_8BAD);
+    let bg = IntSample::new([1000, 2000, 3000], 30000).unwrap();
+    let (mut rays_checked, mut ties) = (0, 0);
+    for case in 0..cases() / 4 {
+        let dims = if case % 5 == 0 {
+            [
+                1 + rng.below(40) as usize,
+                1 + rng.below(40) as usize,
+                1 + rng.below(3) as usize,
+            ]
+        } else {
+            [0; 3].map(|_| 1 + rng.below(12) as usize)
+        };
+        let u8s = random_u8_volume(&mut rng, dims);
+        let d = [0.5, 0.25, 1.0, 0.75][case % 4];
+        let vol = Volume::new(&u8s, dims)
+            .unwrap()
+            .with_reference_distance(d)
+            .unwrap();
+        let kind = case % 3;
+        let phase = if kind == 2 { 0.0 } else { rng.unit() * 0.99 };
+        let step = Step::new(d).unwrap().with_phase(phase).unwrap();
+        let len = 8 * (1 + rng.below(3) as usize) + rng.below(8) as usize;
+        let major = rng.below(3) as usize;
+        let sign = if rng.below(2) == 0 { 1.0 } else { -1.0 };
+        let mut dir = [0.0f32; 3];
+        dir[major] = sign;
+        if kind == 1 && rng.below(4) != 0 {
+            for (k, c) in dir.iter_mut().enumerate() {
+                if k != major {
+                    *c = (rng.unit() * 2.0 - 1.0) * 0.4;
+                }
+            }
+        }
+        let across = (major + 1 + rng.below(2) as usize) % 3;
+        let back = 2.0 * dims.iter().copied().max().unwrap_or(1) as f32;
+        let spacing = [1.0, 0.5, 0.25, 0.37][rng.below(4) as usize];
+        let start = [0, 1, 2].map(|k| {
+            if k == major {
+                dims[k] as f32 * 0.5 - sign * back
+            } else if kind == 2 {
+                // On the 1/512 grid, from half a voxel before the box to half after it.
+                rng.below(dims[k] as u64 * 512 + 1) as f32 / 512.0 - 0.5
+            } else {
+                rng.unit() * dims[k] as f32 - 1.0
+            }
+        });
+        let rays: Vec<Ray> = (0..len)
+            .map(|i| {
+                if kind == 0 {
+                    return random_ray(&mut rng, dims);
+                }
+                let mut o = start;
+                o[across] += i as f32 * if kind == 2 { 1.0 / 512.0 } else { spacing };
+                Ray::new(o, dir).unwrap()
+            })
+            .collect();
+        if kind == 2 {
+            // Coordinates across the rays halfway between two quantized positions.
+            ties += rays
+                .iter()
+                .flat_map(|r| r.origin())
+                .filter(|x| (x * 256.0).fract().abs() == 0.5)
+                .count();
+        }
+        let one = volsample::fixed_point::ONE;
+        let a_stop = [one, one / 10 * 9, one / 2, 1][rng.below(4) as usize];
+        let m = IntRayMarcher::<_, _, _, 8>::new(
+            vol,
+            OpacityWeighted,
+            Trilinear::new(),
+            IntStop::new(a_stop).unwrap(),
+            step,
+        )
+        .unwrap();
+        assert!(m.correction().is_none());
+        let with_bg = m.clone().with_background(bg);
+        let mut out = vec![IntSample::TRANSPARENT; len];
+        for (m, what) in [(&m, "no background"), (&with_bg, "background")] {
+            m.cast_rays(&rays, &mut out).unwrap();
+            for (ray, got) in rays.iter().zip(&out) {
+                let want = m.cast(ray);
+                assert_eq!(*got, want, "{what}, case {case}, stop {a_stop}: {ray:?}");
+            }
+            rays_checked += len;
+        }
+        if case % 16 == 0 {
+            let cam = Orthographic::looking_down_z(dims).unwrap();
+            let persp =
+                Perspective::new([2.0, 1.5, -6.0], [2.0, 1.5, 2.5], [0.0, 1.0, 0.0], 0.9).unwrap();
+            let (w, h) = (1 + rng.below(25) as usize, 1 + rng.below(4) as usize);
+            let mut img = vec![IntSample::TRANSPARENT; w * h];
+            let mut check = |cam: &dyn Camera, img: &[IntSample]| {
+                for j in 0..h {
+                    for i in 0..w {
+                        let want = with_bg.cast(&cam.ray(i, j, w, h));
+                        assert_eq!(img[j * w + i], want, "{w}×{h} pixel ({i}, {j})");
+                    }
+                }
+                rays_checked += w * h;
+            };
+            with_bg.render_into(&cam, w, h, &mut img).unwrap();
+            check(&cam, &img);
+            with_bg.render_into(&persp, w, h, &mut img).unwrap();
+            check(&persp, &img);
+        }
+    }
+    assert!(rays_checked > 1000, "{rays_checked} rays");
+    assert!(ties > 100, "{ties} coordinates at a tie");
 }
 
 /// The four-lane `expm1f` of the extinction kernels (`opacity::expm1f_lanes`) is

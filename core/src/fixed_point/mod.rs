@@ -76,6 +76,13 @@ pub use weights::{nearest_index, trilinear_weights, IntWeights};
 /// to the portable kernel, which every other build uses).
 pub const SSE2_KERNEL: bool = cfg!(all(feature = "sse2", target_arch = "x86_64"));
 
+/// `true` when [`IntRayMarcher::cast_rays`] and [`IntRayMarcher::render_into`] march eight
+/// rays at once in AVX2 lanes (bit-identical to [`IntRayMarcher::cast`]) for
+/// `OpacityWeighted` trilinear sampling of straight RGBA8 voxels at `F = 8`, without opacity
+/// correction or skipping: the crate feature `avx2` in a build for a CPU with AVX2 and FMA,
+/// as [`AVX2_PACKETS`](crate::render::AVX2_PACKETS) of the float marcher.
+pub const AVX2_INT_PACKETS: bool = crate::render::AVX2_PACKETS;
+
 use crate::error::Error;
 use crate::filter::{Nearest, Trilinear, WeightedSum};
 use crate::sample::Sample;
@@ -368,6 +375,12 @@ pub trait IntMode<V: Voxel>: sealed::Sealed + Copy + core::fmt::Debug {
     /// [`IntCorrection`] when the step differs; `false` for [`IntExtinction`], which
     /// integrates over the step itself.
     const OPACITY_BASED: bool = true;
+
+    /// `true` for [`OpacityWeighted`](crate::OpacityWeighted) over
+    /// [`StraightU8`](crate::StraightU8): the mode of the AVX2 packets of
+    /// [`IntRayMarcher::cast_rays`].
+    #[doc(hidden)]
+    const OPACITY_WEIGHTED_U8: bool = false;
 
     /// The mode configured for the step ratio `d/d′` (the identity for the opacity-based
     /// modes; [`IntExtinction`] takes the ratio).

@@ -23,6 +23,8 @@ impl sealed::Sealed for OpacityWeighted {}
 /// within `½·255/α_raw` levels for every opacity, e.g. within `0.498` of a level at
 /// `α = 1/255` (compare the premultiplied-storage limit in [`premul`](super::premul)).
 impl IntMode<StraightU8> for OpacityWeighted {
+    const OPACITY_WEIGHTED_U8: bool = true;
+
     #[inline(always)]
     fn combine<const K: usize>(&self, taps: &[StraightU8; K], w: &IntWeights<K>) -> IntSample {
         let mut s_a = 0u64;

@@ -28,7 +28,7 @@ use super::DEFAULT_FRAC_BITS;
 use super::{check_frac_bits, IntCorrection, IntFilter, IntMode, IntPos, IntSample, IntSampler};
 use crate::error::Error;
 use crate::ray::{Camera, Ray};
-use crate::render::trace_image;
+use crate::render::{trace_image, trace_rows8};
 use crate::render::{Step, MAX_SAMPLES_PER_RAY};
 use crate::skip::{Emptiness, NoSkip, Occupancy, Skipping};
 use crate::volume::Volume;
@@ -377,7 +377,136 @@ where
         (acc, n)
     }
 
-    /// Renders a `width × height` image (row-major, row 0 at the top) into `image`.
+    /// Casts every ray of `rays` into `out`: `out[i]` is [`cast`](Self::cast)`(&rays[i])`,
+    /// bit for bit. Where [`AVX2_INT_PACKETS`](super::AVX2_INT_PACKETS) (crate feature
+    /// `avx2`, a build for an AVX2 CPU) and the pipeline is `OpacityWeighted` trilinear over
+    /// `StraightU8` at `F = 8` without correction or skipping, eight rays at a time in AVX2
+    /// lanes (the same integer operations; rays of one direction also share the taps they
+    /// read); otherwise, and for the rays beyond the last multiple of eight, one at a time.
+    ///
+    /// Error bound: that of [`cast`](Self::cast) (the same results).
+    ///
+    /// ```
+    /// use volsample::fixed_point::{IntRayMarcher, IntSample, IntStop};
+    /// use volsample::{OpacityWeighted, Ray, Step, StraightU8, Trilinear, Volume};
+    /// let voxels: Vec<StraightU8> =
+    ///     (0..64u8).map(|i| StraightU8([i * 4, 255 - i, 7, i * 3])).collect();
+    /// let vol = Volume::new(&voxels, [4, 4, 4])?;
+    /// let marcher = IntRayMarcher::<_, _, _, 8>::new(
+    ///     vol, OpacityWeighted, Trilinear::new(), IntStop::NEVER, Step::new(0.5)?,
+    /// )?;
+    /// let rays: Vec<Ray> = (0..11)
+    ///     .map(|i| Ray::new([0.3 * i as f32, 1.4, -1.0], [0.0, 0.0, 1.0]))
+    ///     .collect::<Result<_, _>>()?;
+    /// let mut out = vec![IntSample::TRANSPARENT; rays.len()];
+    /// marcher.cast_rays(&rays, &mut out)?;
+    /// for (ray, got) in rays.iter().zip(&out) {
+    ///     assert_eq!(*got, marcher.cast(ray));
+    /// }
+    /// # Ok::<(), volsample::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::ImageSizeMismatch`] unless `out.len() == rays.len()`.
+    pub fn cast_rays(&self, rays: &[Ray], out: &mut [IntSample]) -> Result<(), Error> {
+        if out.len() != rays.len() {
+            return Err(Error::ImageSizeMismatch {
+                expected: rays.len(),
+                actual: out.len(),
+            });
+        }
+        let (rays, out) = self.cast_rays8(rays, out);
+        for (r, o) in rays.iter().zip(out) {
+            *o = self.cast(r);
+        }
+        Ok(())
+    }
+
+    /// Whether the eight-ray AVX2 kernel applies: [`AVX2_INT_PACKETS`](super::AVX2_INT_PACKETS)
+    /// and an `OpacityWeighted` trilinear pipeline over straight RGBA8 voxels at `F = 8`
+    /// without correction or skipping, over a volume the kernel can index.
+    #[inline]
+    fn eight_ray_packets(&self) -> bool {
+        #[cfg(all(
+            feature = "avx2",
+            target_arch = "x86_64",
+            target_feature = "avx2",
+            target_feature = "fma"
+        ))]
+        {
+            V::STRAIGHT_RGBA8
+                && M::OPACITY_WEIGHTED_U8
+                && Fl::TAPS == 8
+                && F == 8
+                && !S::SKIPS
+                && self.correction.is_none()
+                && crate::lanes8::fits_int(self.sampler.volume())
+        }
+        #[cfg(not(all(
+            feature = "avx2",
+            target_arch = "x86_64",
+            target_feature = "avx2",
+            target_feature = "fma"
+        )))]
+        {
+            false
+        }
+    }
+
+    /// Where the eight-ray kernel applies ([`eight_ray_packets`](Self::eight_ray_packets)),
+    /// casts the leading multiple of eight rays with it and returns the rest; otherwise
+    /// returns all of them.
+    #[cfg(all(
+        feature = "avx2",
+        target_arch = "x86_64",
+        target_feature = "avx2",
+        target_feature = "fma"
+    ))]
+    fn cast_rays8<'r, 'o>(
+        &self,
+        rays: &'r [Ray],
+        out: &'o mut [IntSample],
+    ) -> (&'r [Ray], &'o mut [IntSample]) {
+        use crate::lanes8::{march8_int, LANES};
+        // (`cast_rays` checked that `out` is as long as `rays`.)
+        if !self.eight_ray_packets() || out.len() != rays.len() {
+            return (rays, out);
+        }
+        let whole = rays.len() / LANES * LANES;
+        let (r8, rest) = rays.split_at(whole);
+        let (o8, out_rest) = out.split_at_mut(whole);
+        let (d, a_stop) = (self.step.d(), self.stop.a_stop());
+        for (r, o) in r8.chunks_exact(LANES).zip(o8.chunks_exact_mut(LANES)) {
+            if let Ok(r) = <&[Ray; LANES]>::try_from(r) {
+                let ranges = r.each_ref().map(|r| self.sample_range(r));
+                let acc = march8_int(self.sampler.volume(), r, &ranges, d, a_stop);
+                for (o, a) in o.iter_mut().zip(acc) {
+                    *o = front_to_back(a, self.background);
+                }
+            }
+        }
+        (rest, out_rest)
+    }
+
+    /// Without the eight-ray kernel: all of `rays` are cast one at a time.
+    #[cfg(not(all(
+        feature = "avx2",
+        target_arch = "x86_64",
+        target_feature = "avx2",
+        target_feature = "fma"
+    )))]
+    #[inline(always)]
+    fn cast_rays8<'r, 'o>(
+        &self,
+        rays: &'r [Ray],
+        out: &'o mut [IntSample],
+    ) -> (&'r [Ray], &'o mut [IntSample]) {
+        (rays, out)
+    }
+
+    /// Renders a `width × height` image (row-major, row 0 at the top) into `image`: each
+    /// pixel [`cast`](Self::cast) of its ray — eight pixels of a row at a time with
+    /// [`cast_rays`](Self::cast_rays) where its AVX2 kernel applies (the same results).
     ///
     /// # Errors
     /// [`Error::EmptyImage`] for a zero width or height, [`Error::ImageSizeMismatch`] unless
@@ -389,6 +518,11 @@ where
         height: usize,
         image: &mut [IntSample],
     ) -> Result<(), Error> {
-        trace_image(camera, width, height, image, |ray| self.cast(ray))
+        if !self.eight_ray_packets() {
+            return trace_image(camera, width, height, image, |ray| self.cast(ray));
+        }
+        trace_rows8(camera, width, height, image, |rays, px| {
+            self.cast_rays(rays, px)
+        })
     }
 }
