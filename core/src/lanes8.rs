@@ -450,6 +450,17 @@ fn div65280(n: __m256i) -> __m256i {
     _mm256_blend_epi32::<0b1010_1010>(even, odd)
 }
 
+/// `⌊y + ½⌋` (**round half up**) per lane for `0 ≤ y < 2^22` (`y = 256·p`, exact): for
+/// `y ≥ ½` the rounded `y + ½`, truncated (a unit test checks every such `f32`); below, 0
+/// (there the rounded sum is 1 for `y = ½ − 2⁻²⁵`).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn quantize8(y: __m256) -> __m256i {
+    let half = _mm256_set1_ps(0.5);
+    let up = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GE_OQ>(y, half));
+    _mm256_and_si256(_mm256_cvttps_epi32(_mm256_add_ps(y, half)), up)
+}
+
 /// `fixed_point::ONE` (opacity 1 in U8.8) in an `i32` lane.
 const INT_ONE: i32 = crate::fixed_point::ONE as i32;
 
@@ -473,8 +484,10 @@ const INT_ONE: i32 = crate::fixed_point::ONE as i32;
 fn int_sums(pair: impl Fn(usize) -> [[__m256; 4]; 2], f: [__m256i; 3]) -> [__m256; 4] {
     let [fx, fy, fz] = f;
     let (add, sub, mul) = (_mm256_add_epi32, _mm256_sub_epi32, _mm256_mullo_epi32);
-    let lerp =
-        |a: __m256i, b: __m256i, f: __m256i| add(_mm256_slli_epi32::<8>(a), mul(f, sub(b, a)));
+    let k256 = _mm256_set1_epi32(256);
+    let (gx, gy, gz) = (sub(k256, fx), sub(k256, fy), sub(k256, fz));
+    let (fx, fy, fz) = ((gx, fx), (gy, fy), (gz, fz));
+    let lerp = |a: __m256i, b: __m256i, (g, f): (__m256i, __m256i)| add(mul(a, g), mul(b, f));
     let int = _mm256_castps_si256;
     let along_x = |p: usize| {
         let [[r0, g0, b0, a0], [r1, g1, b1, a1]] = pair(p);
@@ -829,14 +842,15 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
         if MODE == INTEGER_OW {
             // `fixed_point::front_to_back`: `T = ONE − A`, each channel plus
             // `⌊(T·x + ONE/2)/ONE⌋` (`T·x + ONE/2 < 2^32`: the wrapping `i32` product is the
-            // `u32` one).
+            // `u32` one). A lane that is not live takes `T = 0`, whose increments are
+            // `⌊(ONE/2)/ONE⌋ = 0`.
             let int = _mm256_castps_si256;
             let t = _mm256_sub_epi32(_mm256_set1_epi32(INT_ONE), int(aa));
+            let t = _mm256_and_si256(t, int(live));
             let half = _mm256_set1_epi32(INT_ONE / 2);
             let step = |acc: __m256, x: __m256| {
                 let n = _mm256_add_epi32(_mm256_mullo_epi32(t, int(x)), half);
-                let sum = _mm256_add_epi32(int(acc), div65280(n));
-                _mm256_blendv_ps(acc, _mm256_castsi256_ps(sum), live)
+                _mm256_castsi256_ps(_mm256_add_epi32(int(acc), div65280(n)))
             };
             return [step(ar, cr), step(ag, cg), step(ab, cb), step(aa, a)];
         }
@@ -869,15 +883,11 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
             let next = _mm256_cvttps_epi32(_mm256_add_ps(p, ahead));
             if MODE == INTEGER_OW {
                 // `IntRayMarcher::quantize`: `p` clamped into `[0, n − 1]` (NaN to 0: `max`
-                // returns its second operand then), `raw = ⌊256·p + ½⌋` as `⌊y⌋ + (y − ⌊y⌋ ≥
-                // ½)` with `y = 256·p` (exact: `y < 2^22`, `fits_int`), then the index `raw >> 8`
-                // and the fraction `raw & 255` (an `i32` bit pattern); the index is at most
-                // `n − 1`, the second tap clamped to it.
+                // returns its second operand then), `raw = ⌊256·p + ½⌋` (`quantize8`), then
+                // the index `raw >> 8` and the fraction `raw & 255` (an `i32` bit pattern);
+                // the index is at most `n − 1`, the second tap clamped to it.
                 let p = _mm256_min_ps(_mm256_max_ps(p, zf), _mm256_sub_ps(n, one));
-                let y = _mm256_mul_ps(p, _mm256_set1_ps(256.0));
-                let fl = _mm256_floor_ps(y);
-                let up = _mm256_cmp_ps::<_CMP_GE_OQ>(_mm256_sub_ps(y, fl), _mm256_set1_ps(0.5));
-                let raw = _mm256_sub_epi32(_mm256_cvttps_epi32(fl), _mm256_castps_si256(up));
+                let raw = quantize8(_mm256_mul_ps(p, _mm256_set1_ps(256.0)));
                 let i = _mm256_srli_epi32::<8>(raw);
                 let f = _mm256_and_si256(raw, _mm256_set1_epi32(0xff));
                 return (
@@ -1216,6 +1226,28 @@ mod tests {
                 core::array::from_fn(|l| (n0 + ((l as u32 + n0 / 8) & 7)) as i32);
             let got = to_i32s(div65280(indices(lanes)));
             let want = lanes.map(|n| (n as u32 / 65280) as i32);
+            assert_eq!(got, want, "{lanes:?}");
+        }
+    }
+
+    /// `quantize8` is `⌊y + ½⌋` for every `f32` `y` in `[0, 2^22)` (`IntPos::quantize`'s
+    /// `⌊x·2^8 + ½⌋`, which it computes in `f64`), in every lane.
+    #[test]
+    #[allow(unsafe_code)]
+    fn quantization_rounds_half_up_for_every_f32_below_2_22() {
+        // SAFETY: as above.
+        unsafe { quantize8_check() }
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    fn quantize8_check() {
+        let end = 4_194_304f32.to_bits();
+        for b0 in (0..end).step_by(LANES) {
+            let lanes: [f32; LANES] = core::array::from_fn(|l| {
+                f32::from_bits((b0 + ((l as u32 + b0 / 8) & 7)).min(end - 1))
+            });
+            let got = to_i32s(quantize8(super::lanes(lanes)));
+            let want = lanes.map(|y| libm::floor(f64::from(y) + 0.5) as i32);
             assert_eq!(got, want, "{lanes:?}");
         }
     }
