@@ -470,9 +470,10 @@ const INT_ONE: i32 = crate::fixed_point::ONE as i32;
 /// `IntMode::combine` of `OpacityWeighted` (`S = Σ w_i·α_i·(C_i, 1)` with the exact weights
 /// `w_i = wx·wy·wz`, `s = 24`; `α = ⌊(S_α + 2^15)/2^16⌋`, `C̃ = ⌊(S_c + 255·2^15)/(255·2^16)⌋`).
 ///
-/// The sums are the same integers formed axis by axis, in wrapping `u32` lanes, each result
-/// a true value below `2^32` (so exact modulo `2^32`, hence exact):
-/// `lerp(a, b, f) = 256·a + f·(b − a) = (256 − f)·a + f·b`;
+/// The sums are the same integers formed axis by axis, `lerp(a, b, f) = (256 − f)·a + f·b`,
+/// in wrapping `u32` lanes where each product and each sum is a true value below `2^32` (so
+/// exact modulo `2^32`, hence exact; every operand below is at most `255²·256`, times at most
+/// 256):
 /// along x `X ≤ 256·255² < 2^24`, along y `Y ≤ 2^16·255² < 2^32`; along z, `S_α ≤ 2^24·255`
 /// fits, and `S_c < 2^40` is split: with `Y = 256·h + l` (`l < 256`),
 /// `S_c = 256·H + L`, `H = lerp(h₀, h₁, fz) ≤ 2^16·255²`, `L = lerp(l₀, l₁, fz) < 2^16`, so
