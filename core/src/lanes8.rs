@@ -466,6 +466,10 @@ fn quantize8(y: __m256) -> __m256i {
     _mm256_and_si256(_mm256_cvttps_epi32(_mm256_add_ps(y, half)), up)
 }
 
+/// `(2^32 − 1)/255`: `⌊q/255⌋ = ⌊(q + 1)·RECIP255/2^32⌋` for `q < 2^24` (see [`int_sums`]; a
+/// unit test checks every such `q`).
+const RECIP255: u32 = 0x0101_0101;
+
 /// `fixed_point::ONE` (opacity 1 in U8.8) in an `i32` lane.
 const INT_ONE: i32 = crate::fixed_point::ONE as i32;
 
@@ -484,7 +488,7 @@ const INT_ONE: i32 = crate::fixed_point::ONE as i32;
 /// in 64-bit lanes (`vpmuludq` of the even and the odd lanes): `q + 1 = ⌊(S_c + 255·2^15 +
 /// 2^16)/2^16⌋ ≤ 2^24` and `C̃ = ⌊q/255⌋ = ⌊(q + 1)·0x0101_0101/2^32⌋` (`0x0101_0101 =
 /// (2^32 − 1)/255`: with `q = 255k + r`, `(q + 1)/255 − (q + 1)/(255·2^32)` lies in
-/// `(k, k + 1)`; the unit test against `combine` covers the widest sums).
+/// `(k, k + 1)`; [`RECIP255`]).
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn int_sums(pair: impl Fn(usize) -> [[__m256; 4]; 2], f: [__m256i; 3]) -> [__m256; 4] {
@@ -518,7 +522,7 @@ fn int_sums(pair: impl Fn(usize) -> [[__m256; 4]; 2], f: [__m256i; 3]) -> [__m25
     let (gz_odd, fz_odd) = (_mm256_srli_epi64::<32>(gz), _mm256_srli_epi64::<32>(fz));
     let (mul64, add64) = (_mm256_mul_epu32, _mm256_add_epi64);
     let bias = _mm256_set1_epi64x((255 << 15) + (1 << 16));
-    let m = _mm256_set1_epi32(0x0101_0101);
+    let m = _mm256_set1_epi32(RECIP255 as i32);
     let color = |y0: __m256i, y1: __m256i| {
         let odd = _mm256_srli_epi64::<32>;
         let even_z = add64(add64(mul64(y0, gz), mul64(y1, fz)), bias);
@@ -1238,6 +1242,16 @@ mod tests {
             let got = to_i32s(div65280(indices(lanes)));
             let want = lanes.map(|n| (n as u32 / 65280) as i32);
             assert_eq!(got, want, "{lanes:?}");
+        }
+    }
+
+    /// `⌊(q + 1)·RECIP255/2^32⌋ = ⌊q/255⌋` for every `q < 2^24` (the quotient `int_sums`
+    /// forms; `black_box` keeps the compiler from folding the comparison).
+    #[test]
+    fn quotient_by_255_is_exact_below_2_24() {
+        let m = u64::from(core::hint::black_box(RECIP255));
+        for q in 0u64..1 << 24 {
+            assert_eq!(((q + 1) * m) >> 32, q / 255, "q = {q}");
         }
     }
 
