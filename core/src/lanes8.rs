@@ -675,6 +675,29 @@ fn extinction_step_per_lane(s: [__m256; 4], d: f32) -> ([__m256; 3], __m256) {
     ([r, g, b], a)
 }
 
+/// Marches the leading multiple of eight rays of `rays` by `march` (eight rays to their eight
+/// results) into `out`, and returns the rays and outputs left (fewer than eight; all of them
+/// if `out` is not as long as `rays`).
+#[inline]
+pub(crate) fn in_packets<'r, 'o, P>(
+    rays: &'r [Ray],
+    out: &'o mut [P],
+    mut march: impl FnMut(&[Ray; LANES]) -> [P; LANES],
+) -> (&'r [Ray], &'o mut [P]) {
+    if out.len() != rays.len() {
+        return (rays, out);
+    }
+    let whole = rays.len() / LANES * LANES;
+    let (r8, rest) = rays.split_at(whole);
+    let (o8, out_rest) = out.split_at_mut(whole);
+    for (r, o) in r8.chunks_exact(LANES).zip(o8.chunks_exact_mut(LANES)) {
+        if let (Ok(r), Ok(o)) = (<&[Ray; LANES]>::try_from(r), <&mut [P; LANES]>::try_from(o)) {
+            *o = march(r);
+        }
+    }
+    (rest, out_rest)
+}
+
 /// Whether the kernel can index `vol` with `i32` lanes.
 #[inline(always)]
 pub(crate) fn fits<V: Voxel>(vol: &Volume<'_, V>) -> bool {
@@ -1069,6 +1092,16 @@ mod tests {
         from_i32s(a)
     }
 
+    /// xorshift64: deterministic test data from `seed` (not 0).
+    fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        }
+    }
+
     /// `Taps::new` proves the indices inside exactly when all 64 are below the length (as
     /// unsigned numbers), and both loads read the voxels' words; an index outside reads the
     /// transparent voxel.
@@ -1175,13 +1208,8 @@ mod tests {
 
     #[target_feature(enable = "avx2,fma")]
     fn extinction_check() {
-        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
-        let mut unit = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = xorshift(0x9E37_79B9_7F4A_7C15);
+        let mut unit = || (next() >> 40) as f32 / (1u64 << 24) as f32;
         let clamp =
             |v: __m256, hi: __m256| _mm256_min_ps(_mm256_max_ps(v, _mm256_setzero_ps()), hi);
         for case in 0..20_000 {
@@ -1303,13 +1331,7 @@ mod tests {
     #[target_feature(enable = "avx2,fma")]
     fn int_sums_check() {
         use crate::fixed_point::{IntMode, IntWeights};
-        let mut seed = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut next = xorshift(0x2545_F491_4F6C_DD1D);
         let edges = [0u32, 1, 127, 128, 254, 255];
         for case in 0..6000 {
             // Eight lanes of taps (tap `k` of lane `l`) and fractions.

@@ -458,34 +458,23 @@ where
         rays: &'r [Ray],
         out: &'o mut [Sample],
     ) -> (&'r [Ray], &'o mut [Sample]) {
-        use crate::lanes8::{march8, EXTINCTION_U8, LANES, OPACITY_WEIGHTED, SEPARATE};
+        use crate::lanes8::{in_packets, march8, EXTINCTION_U8, OPACITY_WEIGHTED, SEPARATE};
         let separate = <M as Mode<V>>::SEPARATE;
         let taus = self.mode.tau_table().map(|t| t.taus());
-        // (`cast_rays` checked that `out` is as long as `rays`.)
-        if !self.eight_ray_packets() || out.len() != rays.len() {
+        if !self.eight_ray_packets() {
             return (rays, out);
         }
-        let whole = rays.len() / LANES * LANES;
-        let (r8, rest) = rays.split_at(whole);
-        let (o8, out_rest) = out.split_at_mut(whole);
         let a_stop = self.order.termination().a_stop_or_inf();
-        for (r, o) in r8.chunks_exact(LANES).zip(o8.chunks_exact_mut(LANES)) {
-            if let Ok(r) = <&[Ray; LANES]>::try_from(r) {
-                let ranges = r.each_ref().map(|r| self.samples(r));
-                let (vol, d) = (&self.volume, self.step.d);
-                let acc = match taus {
-                    Some(t) => march8::<V, EXTINCTION_U8>(vol, r, &ranges, d, a_stop, t),
-                    None if separate => {
-                        march8::<V, SEPARATE>(vol, r, &ranges, d, a_stop, &[0.0; 256])
-                    }
-                    None => march8::<V, OPACITY_WEIGHTED>(vol, r, &ranges, d, a_stop, &[0.0; 256]),
-                };
-                for (o, a) in o.iter_mut().zip(acc) {
-                    *o = over(a, self.background);
-                }
-            }
-        }
-        (rest, out_rest)
+        in_packets(rays, out, |r| {
+            let ranges = r.each_ref().map(|r| self.samples(r));
+            let (vol, d) = (&self.volume, self.step.d);
+            let acc = match taus {
+                Some(t) => march8::<V, EXTINCTION_U8>(vol, r, &ranges, d, a_stop, t),
+                None if separate => march8::<V, SEPARATE>(vol, r, &ranges, d, a_stop, &[0.0; 256]),
+                None => march8::<V, OPACITY_WEIGHTED>(vol, r, &ranges, d, a_stop, &[0.0; 256]),
+            };
+            acc.map(|a| over(a, self.background))
+        })
     }
 
     /// Whether the eight-ray AVX2 kernel applies to this marcher ([`AVX2_PACKETS`] and an

@@ -467,25 +467,16 @@ where
         rays: &'r [Ray],
         out: &'o mut [IntSample],
     ) -> (&'r [Ray], &'o mut [IntSample]) {
-        use crate::lanes8::{march8_int, LANES};
-        // (`cast_rays` checked that `out` is as long as `rays`.)
-        if !self.eight_ray_packets() || out.len() != rays.len() {
+        use crate::lanes8::{in_packets, march8_int};
+        if !self.eight_ray_packets() {
             return (rays, out);
         }
-        let whole = rays.len() / LANES * LANES;
-        let (r8, rest) = rays.split_at(whole);
-        let (o8, out_rest) = out.split_at_mut(whole);
         let (d, a_stop) = (self.step.d(), self.stop.a_stop());
-        for (r, o) in r8.chunks_exact(LANES).zip(o8.chunks_exact_mut(LANES)) {
-            if let Ok(r) = <&[Ray; LANES]>::try_from(r) {
-                let ranges = r.each_ref().map(|r| self.sample_range(r));
-                let acc = march8_int(self.sampler.volume(), r, &ranges, d, a_stop);
-                for (o, a) in o.iter_mut().zip(acc) {
-                    *o = front_to_back(a, self.background);
-                }
-            }
-        }
-        (rest, out_rest)
+        in_packets(rays, out, |r| {
+            let ranges = r.each_ref().map(|r| self.sample_range(r));
+            let acc = march8_int(self.sampler.volume(), r, &ranges, d, a_stop);
+            acc.map(|a| front_to_back(a, self.background))
+        })
     }
 
     /// Without the eight-ray kernel: all of `rays` are cast one at a time.
