@@ -405,10 +405,10 @@ where
     /// Casts every ray of `rays` into `out` (`out[i]` is `cast(&rays[i])`, bit for bit), four
     /// at a time with [`cast4`](Self::cast4) — or eight at a time in AVX2 lanes where
     /// [`AVX2_PACKETS`] (crate feature `avx2`, a build for an AVX2 CPU) and the marcher is
-    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8`, `Trilinear<WeightedSum>`, over
-    /// `StraightU8`, front to back without correction or skipping: in the `ray_march` bench
-    /// (2-core AMD EPYC, coherent rays) that took 0.20 of `cast`'s time for
-    /// `OpacityWeighted`.
+    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8` over `StraightU8`, or
+    /// `ExtinctionWeighted` over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to back
+    /// without correction or skipping: in the `ray_march` bench (2-core AMD EPYC, coherent
+    /// rays) that took 0.20 of `cast`'s time for `OpacityWeighted`.
     ///
     /// Packets overlap the four rays' chains of dependent operations; so does
     /// [`cast`](Self::cast) with four consecutive samples of one ray in lanes, which wastes no
@@ -444,9 +444,10 @@ where
     }
 
     /// Where the eight-ray AVX2 kernel applies ([`AVX2_PACKETS`] and an `OpacityWeighted`,
-    /// `Separate` or `ExtinctionWeightedU8`, `Trilinear<WeightedSum>`, straight-RGBA8,
-    /// front-to-back marcher without correction or skipping), casts the leading multiple of
-    /// eight rays with it and returns the rest; otherwise returns all of them.
+    /// `Separate` or `ExtinctionWeightedU8` marcher over straight RGBA8 or an
+    /// `ExtinctionWeighted` one over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to back
+    /// without correction or skipping), casts the leading multiple of eight rays with it and
+    /// returns the rest; otherwise returns all of them.
     #[cfg(all(
         feature = "avx2",
         target_arch = "x86_64",
@@ -458,8 +459,11 @@ where
         rays: &'r [Ray],
         out: &'o mut [Sample],
     ) -> (&'r [Ray], &'o mut [Sample]) {
-        use crate::lanes8::{in_packets, march8, EXTINCTION_U8, OPACITY_WEIGHTED, SEPARATE};
+        use crate::lanes8::{
+            in_packets, march8, EXTINCTION_F32, EXTINCTION_U8, OPACITY_WEIGHTED, SEPARATE,
+        };
         let separate = <M as Mode<V>>::SEPARATE;
+        let extinction = <M as Mode<V>>::EXTINCTION;
         let taus = self.mode.tau_table().map(|t| t.taus());
         if !self.eight_ray_packets() {
             return (rays, out);
@@ -470,6 +474,9 @@ where
             let (vol, d) = (&self.volume, self.step.d);
             let acc = match taus {
                 Some(t) => march8::<V, EXTINCTION_U8>(vol, r, &ranges, d, a_stop, t),
+                None if extinction => {
+                    march8::<V, EXTINCTION_F32>(vol, r, &ranges, d, a_stop, &[0.0; 256])
+                }
                 None if separate => march8::<V, SEPARATE>(vol, r, &ranges, d, a_stop, &[0.0; 256]),
                 None => march8::<V, OPACITY_WEIGHTED>(vol, r, &ranges, d, a_stop, &[0.0; 256]),
             };
@@ -478,9 +485,9 @@ where
     }
 
     /// Whether the eight-ray AVX2 kernel applies to this marcher ([`AVX2_PACKETS`] and an
-    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8`, `Trilinear<WeightedSum>`,
-    /// straight-RGBA8, front-to-back marcher without correction or skipping, over a volume
-    /// it can index).
+    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8` marcher over straight RGBA8 or
+    /// an `ExtinctionWeighted` one over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to
+    /// back without correction or skipping, over a volume it can index).
     #[inline]
     fn eight_ray_packets(&self) -> bool {
         #[cfg(all(
@@ -490,10 +497,13 @@ where
             target_feature = "fma"
         ))]
         {
-            V::STRAIGHT_RGBA8
+            let rgba8 = V::STRAIGHT_RGBA8
                 && (<M as Mode<V>>::OPACITY_WEIGHTED
                     || <M as Mode<V>>::SEPARATE
-                    || self.mode.tau_table().is_some())
+                    || self.mode.tau_table().is_some());
+            let extinction_f32 =
+                <M as Mode<V>>::EXTINCTION && V::as_extinction_f32(self.volume.data()).is_some();
+            (rgba8 || extinction_f32)
                 && F::TRILINEAR_WEIGHTED_SUM
                 && O::FRONT_TO_BACK
                 && !S::SKIPS
@@ -650,7 +660,8 @@ where
 /// Whether [`RayMarcher::cast_rays`] marches eight rays at once in AVX2 lanes (the module
 /// `lanes8`, bit-identical to [`RayMarcher::cast`]) for `OpacityWeighted`, `Separate` and
 /// `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of
-/// [`StraightU8`](crate::StraightU8) voxels front to back without opacity correction or
+/// [`StraightU8`](crate::StraightU8) voxels, and `ExtinctionWeighted` of
+/// [`ExtinctionF32`](crate::ExtinctionF32) ones, front to back without opacity correction or
 /// skipping: `true` when the crate feature `avx2` is on
 /// **and** the build targets a CPU with AVX2 and FMA (`-C target-feature=+avx2,+fma`, or
 /// `-C target-cpu=native` on such a CPU). The rays beyond the last multiple of eight, and

@@ -76,6 +76,16 @@ pub trait Voxel: Copy {
         let _ = data;
         None
     }
+
+    /// `data` itself where `Self` is [`ExtinctionF32`], `None` for every other format: lets
+    /// the eight-ray lane kernel (feature `avx2`) read such a voxel as one 16-byte vector (an
+    /// `ExtinctionF32` is `repr(C)`: its four `f32` in order). Not meant to be overridden.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn as_extinction_f32(data: &[Self]) -> Option<&[ExtinctionF32]> {
+        let _ = data;
+        None
+    }
 }
 
 /// A voxel holding straight (unweighted) color and opacity.
@@ -292,8 +302,12 @@ impl AssociatedVoxel for AssociatedU8 {
 }
 
 /// Extinction `τ` (per unit length) and extinction-weighted color `C^τ = τ·C` (Kraus 2008).
+///
+/// `repr(C)`: four `f32` in memory, `C^τ` red, green, blue, then `τ` (16 bytes, the layout a
+/// C caller or a DMA engine can rely on).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(C)]
 pub struct ExtinctionF32 {
     /// Extinction-weighted color, each channel in `[0, τ]`.
     pub c_tau: [f32; 3],
@@ -330,6 +344,10 @@ impl Voxel for ExtinctionF32 {
         c_tau: [0.0; 3],
         tau: 0.0,
     };
+    #[inline(always)]
+    fn as_extinction_f32(data: &[Self]) -> Option<&[ExtinctionF32]> {
+        Some(data)
+    }
     fn check(&self) -> Result<(), VoxelFault> {
         for x in self.c_tau.iter().chain(core::iter::once(&self.tau)) {
             if !x.is_finite() {

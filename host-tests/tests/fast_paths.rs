@@ -103,6 +103,17 @@ fn soft(v: &[StraightU8]) -> Vec<StraightU8> {
         .collect()
 }
 
+/// `v` as `ExtinctionF32` voxels for steps of `d_ref` (`ExtinctionF32::from_straight` of the
+/// bytes over 255): the 16-byte voxels of the AVX2 packets' `ExtinctionWeighted` rows.
+fn extinction_f32(v: &[StraightU8], d_ref: f32) -> Vec<ExtinctionF32> {
+    v.iter()
+        .map(|&StraightU8(rgba)| {
+            let [r, g, b, a] = rgba.map(|n| f32::from(n) / 255.0);
+            ExtinctionF32::from_straight(StraightF32 { c: [r, g, b], a }, d_ref)
+        })
+        .collect()
+}
+
 fn same_f32(a: f32, b: f32) -> bool {
     a.to_bits() == b.to_bits()
 }
@@ -770,6 +781,11 @@ fn avx2_packets_are_bit_identical_to_single_rays() {
         both_orders!(ExtinctionWeightedU8::new(&tau), "ExtinctionWeightedU8");
         let ext = ExtinctionWeightedU8::new(&tau);
         both_orders!(ext, "ExtinctionWeightedU8, soft", soft_vol);
+        let (e16, soft_e16) = (extinction_f32(&u8s, d), extinction_f32(&soft_u8s, d));
+        let e16_vol = Volume::new(&e16, dims).unwrap();
+        both_orders!(ExtinctionWeighted, "ExtinctionWeighted", e16_vol);
+        let soft_e16_vol = Volume::new(&soft_e16, dims).unwrap();
+        both_orders!(ExtinctionWeighted, "ExtinctionWeighted, soft", soft_e16_vol);
     }
     assert!(rays_checked > 1000, "{rays_checked} rays");
 }
@@ -853,6 +869,14 @@ fn coherent_packets_are_bit_identical_to_single_rays() {
         check!(ExtinctionWeightedU8::new(&tau), "ExtinctionWeightedU8");
         let ext = ExtinctionWeightedU8::new(&tau);
         check!(ext, "ExtinctionWeightedU8, soft", soft_vol);
+        let (e16, soft_e16) = (extinction_f32(&u8s, d), extinction_f32(&soft_u8s, d));
+        check!(
+            ExtinctionWeighted,
+            "ExtinctionWeighted",
+            Volume::new(&e16, dims).unwrap()
+        );
+        let soft_e16_vol = Volume::new(&soft_e16, dims).unwrap();
+        check!(ExtinctionWeighted, "ExtinctionWeighted, soft", soft_e16_vol);
     }
     assert!(rays_checked > 1000, "{rays_checked} rays");
 }

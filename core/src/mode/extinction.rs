@@ -29,6 +29,7 @@ impl sealed::Sealed for ExtinctionWeighted {}
 
 impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
     const OPACITY_BASED: bool = false;
+    const EXTINCTION: bool = true;
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {

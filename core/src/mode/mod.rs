@@ -54,6 +54,10 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     /// `true` for [`Separate`], the other.
     #[doc(hidden)]
     const SEPARATE: bool = false;
+    /// `true` for [`ExtinctionWeighted`], which the eight-ray lane kernel computes over
+    /// [`ExtinctionF32`](crate::voxel::ExtinctionF32) voxels.
+    #[doc(hidden)]
+    const EXTINCTION: bool = false;
 
     /// The `τ` table of [`ExtinctionWeightedU8`], the third mode the eight-ray lane kernel
     /// computes; `None` for the others.
