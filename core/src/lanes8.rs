@@ -717,19 +717,25 @@ fn extinction_step(s: [__m256; 4], d: f32) -> ([__m256; 3], __m256) {
     let t = sub(k(3.0), mul(r1, hfx));
     let e = mul(hxs, div(sub(r1, t), sub(k(6.0), mul(y, t))));
     let em1 = sub(y, sub(mul(y, e), hxs));
-    let tiny = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(0x3300_0000), bits));
-    let em1 = _mm256_blendv_ps(em1, y, tiny);
-    let a = _mm256_xor_ps(em1, k(-0.0));
-    // `phi_with(x, || a)`: its series below `PHI_SERIES_BELOW`, else `a / x`.
-    let series = sub(
-        k(1.0),
-        mul(
-            x,
-            sub(k(0.5), mul(x, sub(k(1.0 / 6.0), mul(x, k(1.0 / 24.0))))),
-        ),
-    );
+    // `phi_with(x, || a)`: its series below `PHI_SERIES_BELOW`, else `a / x`. Where no lane
+    // lies below (the common case inside a medium), no lane has `|y| < 2⁻²⁵ < 10⁻⁴` either,
+    // and both blends are left out.
     let below = _mm256_cmp_ps::<_CMP_LT_OQ>(x, k(PHI_SERIES_BELOW));
-    let phi = _mm256_blendv_ps(div(a, x), series, below);
+    let (a, phi) = if _mm256_movemask_ps(below) == 0 {
+        let a = _mm256_xor_ps(em1, k(-0.0));
+        (a, div(a, x))
+    } else {
+        let tiny = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(0x3300_0000), bits));
+        let a = _mm256_xor_ps(_mm256_blendv_ps(em1, y, tiny), k(-0.0));
+        let series = sub(
+            k(1.0),
+            mul(
+                x,
+                sub(k(0.5), mul(x, sub(k(1.0 / 6.0), mul(x, k(1.0 / 24.0))))),
+            ),
+        );
+        (a, _mm256_blendv_ps(div(a, x), series, below))
+    };
     let g = mul(k(d), phi);
     ([mul(c0, g), mul(c1, g), mul(c2, g)], a)
 }
@@ -1307,8 +1313,10 @@ mod tests {
     }
 
     /// `extinction_step`, clamped as the kernel clamps it, is `integrate_step` in every lane:
-    /// packets of sums all within `expm1f`'s primary range or at 0 (the lanes' path) and mixed
-    /// with larger, NaN and infinite `τ` (the per-lane path).
+    /// packets of sums all within `expm1f`'s primary range or at 0 (the lanes' path), with
+    /// and without lanes below `PHI_SERIES_BELOW` (the path without the blends and the path
+    /// with them), whole packets of tiny `τd` (`2⁻³⁰..2⁻¹⁰`), and packets mixed with larger,
+    /// NaN and infinite `τ` (the per-lane path); colors `C^τ ≤ τ` mostly, so that `φ` shows.
     #[test]
     #[allow(unsafe_code)]
     fn extinction_step_is_integrate_step_per_lane() {
@@ -1330,27 +1338,45 @@ mod tests {
                 _ => 2.0,
             };
             let wild = case % 3 == 0;
+            // `τ` per lane: some whole packets of tiny `τd` (below `PHI_SERIES_BELOW`, where
+            // `φ` is its series, down to `expm1f`'s `|y| < 2⁻²⁵`), else mostly the primary
+            // range, with single lanes of edge values.
+            let tiny = case % 7 == 0;
+            let tau: [f32; LANES] = core::array::from_fn(|l| {
+                let u = unit();
+                if tiny {
+                    libm::exp2f(-10.0 - 20.0 * u) / d
+                } else if l == case % 8 && u < 0.1 {
+                    match l % 4 {
+                        0 => 0.0,
+                        1 => 1e-9,
+                        2 => 3e-5,
+                        _ => 2e-4,
+                    }
+                } else if wild && l == 3 {
+                    match case % 4 {
+                        0 => f32::NAN,
+                        1 => f32::INFINITY,
+                        2 => 40.0,
+                        _ => -1.0,
+                    }
+                } else {
+                    u * 0.34 / d
+                }
+            });
+            // `C^τ = τ·C` (so that the clamps of `C̃` into `[0, α]` rarely hide `φ`), and
+            // sometimes above `τ`.
             let s: [[f32; LANES]; 4] = core::array::from_fn(|k| {
+                if k == 3 {
+                    return tau;
+                }
                 core::array::from_fn(|l| {
+                    let t = tau.get(l).copied().unwrap_or(0.0);
                     let u = unit();
-                    if k < 3 {
+                    if case % 5 == 0 {
                         u * 0.3
-                    } else if l == case % 8 && u < 0.1 {
-                        match l % 4 {
-                            0 => 0.0,
-                            1 => 1e-9,
-                            2 => 3e-5,
-                            _ => 2e-4,
-                        }
-                    } else if wild && l == 3 {
-                        match case % 4 {
-                            0 => f32::NAN,
-                            1 => f32::INFINITY,
-                            2 => 40.0,
-                            _ => -1.0,
-                        }
                     } else {
-                        u * 0.34 / d
+                        t * u
                     }
                 })
             });
