@@ -1,9 +1,10 @@
 //! Eight rays in the eight `f32` lanes of AVX2 vectors: the packet kernel of
 //! [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) for `OpacityWeighted`, `Separate`
 //! and `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of straight RGBA8 voxels,
-//! and `ExtinctionWeighted` of [`ExtinctionF32`] voxels ([`EXTINCTION_F32`]), front to back, without opacity correction or empty-space skipping; and, in `i32` lanes,
-//! that of [`IntRayMarcher::cast_rays`](crate::fixed_point::IntRayMarcher::cast_rays) for the
-//! integer `OpacityWeighted` trilinear pipeline at `F = 8` ([`march8_int`], [`int_sums`]).
+//! and `ExtinctionWeighted` of [`ExtinctionF32`] voxels ([`EXTINCTION_F32`]), front to back,
+//! without opacity correction or empty-space skipping; and, in `i32` lanes, that of
+//! [`IntRayMarcher::cast_rays`](crate::fixed_point::IntRayMarcher::cast_rays) for the integer
+//! `OpacityWeighted` trilinear pipeline at `F = 8` ([`march8_int`], [`int_sums`]).
 //!
 //! Compiled only with the crate feature `avx2` **and** a target with AVX2 and FMA enabled at
 //! compile time (`-C target-feature=+avx2,+fma`, or `-C target-cpu=native` on such a CPU;
@@ -11,11 +12,12 @@
 //! `cast_rays` keeps its portable four-ray packets (the integer one casts one ray at a time).
 //! An `unsafe` call enters the kernel (see [`march8`]; [`march8_int`] likewise); inside it, a
 //! `#[target_feature(enable = "avx2,fma")]` function, the value intrinsics of `core::arch`
-//! are safe functions. Four more `unsafe` blocks, each with its
+//! are safe functions. Five more `unsafe` blocks, each with its
 //! proof: the bit casts between an integer vector and `[i32; 8]` (`to_i32s`, `from_i32s`),
 //! the unchecked voxel loads of [`Taps::load`], taken only after one vector test per read
 //! has shown all 64 tap indices inside the data (eight scalar loads per tap; a gather
-//! instruction was slower on the machine measured), and the unchecked 8-byte loads of
+//! instruction was slower on the machine measured), those of [`Taps::load_f32x4`] (16-byte
+//! `ExtinctionF32` voxels, after the same test), and the unchecked 8-byte loads of
 //! [`Taps::load_pair`].
 //!
 //! **Pair reads**: where no lane's x taps are clamped together (at the grid's x edges), each
@@ -32,13 +34,13 @@
 //! last tap to the first (`ω = w·α`, `Σ ω·C`, `Σ ω` for `OpacityWeighted`; `Σ w·C`, `Σ w·α`
 //! and `C̃ = α·C` for `Separate`; `Σ w·C^τ`, `Σ w·τ` with `τ` from the `TauTable` and
 //! `integrate_step` for `ExtinctionWeightedU8` (and the same sums and step of the stored
-//! `[C^τ, τ]` for `ExtinctionWeighted` over `ExtinctionF32`), its `expm1f` in lanes as the four-sample lanes
-//! compute it where a whole packet lies in the library's primary range, else per lane), the
-//! clamps, and the front-to-back step — with no fused multiply-add (IEEE `+`, `−`, `×`, `÷`
-//! round the same in any unit). A byte `n` becomes the correctly rounded `n/255` of the
-//! table the one-ray kernel reads as `n·h + (n·l)` with
-//! `1/255 = h + l` split into two `f32` (one product, one fused multiply-add), which is the
-//! rounded quotient for every byte (a unit test here checks all 256).
+//! `[C^τ, τ]` for `ExtinctionWeighted` over `ExtinctionF32`), its `expm1f` in lanes as the
+//! four-sample lanes compute it where a whole packet lies in the library's primary range,
+//! else per lane), the clamps, and the front-to-back step — with no fused multiply-add
+//! (IEEE `+`, `−`, `×`, `÷` round the same in any unit). A byte `n` becomes the correctly
+//! rounded `n/255` of the table the one-ray kernel reads as `n·h + (n·l)` with `1/255 = h + l`
+//! split into two `f32` (one product, one fused multiply-add), which is the rounded quotient
+//! for every byte (a unit test here checks all 256).
 //! `tests/fast_paths.rs` compares `cast_rays` with `cast` bit for bit when the kernel is
 //! compiled in ([`AVX2_PACKETS`](crate::render::AVX2_PACKETS)).
 //!
