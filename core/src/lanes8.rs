@@ -34,9 +34,8 @@
 //! last tap to the first (`ω = w·α`, `Σ ω·C`, `Σ ω` for `OpacityWeighted`; `Σ w·C`, `Σ w·α`
 //! and `C̃ = α·C` for `Separate`; `Σ w·C^τ`, `Σ w·τ` with `τ` from the `TauTable` and
 //! `integrate_step` for `ExtinctionWeightedU8` (and the same sums and step of the stored
-//! `[C^τ, τ]` for `ExtinctionWeighted` over `ExtinctionF32`), its `expm1f` in lanes as the
-//! four-sample lanes compute it where a whole packet lies in the library's primary range,
-//! else per lane), the clamps, and the front-to-back step — with no fused multiply-add
+//! `[C^τ, τ]` for `ExtinctionWeighted` over `ExtinctionF32`), its polynomial `φ` in lanes
+//! where every lane's `τd` is below 1, else per lane), the clamps, and the front-to-back step — with no fused multiply-add
 //! (IEEE `+`, `−`, `×`, `÷` round the same in any unit). A byte `n` becomes the correctly
 //! rounded `n/255` of the table the one-ray kernel reads as `n·h + (n·l)` with `1/255 = h + l`
 //! split into two `f32` (one product, one fused multiply-add), which is the rounded quotient
@@ -83,7 +82,7 @@
 use core::arch::x86_64::*;
 
 use crate::mode::integrate_step;
-use crate::opacity::PHI_SERIES_BELOW;
+use crate::opacity::{PHI_POLY, PHI_POLY_BELOW};
 use crate::ray::Ray;
 use crate::sample::Sample;
 use crate::volume::Volume;
@@ -686,64 +685,39 @@ fn sums<const MODE: u8>(
 
 /// `integrate_step(C^τ, τ, d)` per lane before its clamps (which the caller applies; they
 /// leave an already clamped sample as it is): `(C̃, α)` from the sums `[C^τ…, τ]`. Where every
-/// lane's `x = max(τ, 0)·d` lies in `libm::expm1f`'s primary range or below it
-/// (`|x| ≤ ½ ln 2`), in lanes with `opacity::expm1f_x4`'s operations (and `expm1f`'s `x` itself
-/// below `2⁻²⁵`), then `φ` and `C̃ = C^τ·d·φ` as `integrate_step`; otherwise
-/// `integrate_step` per lane ([`extinction_step_per_lane`], out of line: with it inside, this
-/// function was not inlined into the kernel, and inlining it took the packets from 7.1 to 6.4
-/// ns/sample in a probe).
+/// lane's `x = max(τ, 0)·d` lies below 1 ([`PHI_POLY_BELOW`]), in lanes: `φ` by
+/// `opacity::phi_poly`'s operations (its Estrin form, with no fused multiply-add), `α = x·φ`
+/// and `C̃ = C^τ·(d·φ)` as `integrate_step`; otherwise `integrate_step` per lane
+/// ([`extinction_step_per_lane`], out of line: with it inside, this function was not inlined
+/// into the kernel, and inlining it took the packets from 7.1 to 6.4 ns/sample in a probe).
+/// Its chain of dependent operations is short (the polynomial is six deep): with
+/// `libm::expm1f`'s rational form and `φ = α/x` (two divisions, about twenty deep) the
+/// packets took 6.2–6.3 ns/sample in a probe, with Horner's form of the polynomial (twelve
+/// deep) 5.75, with Estrin's 5.4–5.5.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn extinction_step(s: [__m256; 4], d: f32) -> ([__m256; 3], __m256) {
-    let (add, sub, mul, div) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps, _mm256_div_ps);
+    let (add, mul) = (_mm256_add_ps, _mm256_mul_ps);
     let [c0, c1, c2, tau] = s;
     let k = _mm256_set1_ps;
-    // `tau.max(0.0)` (NaN to 0), `x = τ·d`.
+    // `tau.max(0.0)` (NaN to 0), `x = τ·d`; `x < 1` fails for NaN too.
     let x = mul(_mm256_max_ps(tau, _mm256_setzero_ps()), k(d));
-    let bits = _mm256_and_si256(_mm256_castps_si256(x), _mm256_set1_epi32(0x7fff_ffff));
-    let in_range = _mm256_cmpgt_epi32(_mm256_set1_epi32(0x3eb1_7219), bits);
-    if _mm256_movemask_epi8(in_range) != -1 {
+    let below = _mm256_cmp_ps::<_CMP_LT_OQ>(x, k(PHI_POLY_BELOW));
+    if _mm256_movemask_ps(below) != 0xff {
         return extinction_step_per_lane(s, d);
     }
-    // `libm::expm1f(y)`, `y = −x`: FreeBSD's `s_expm1f.c` for `k = 0` as `expm1f_x4`, and `y`
-    // itself where `|y| < 2⁻²⁵`, as the library returns it (the polynomial gave the same there
-    // in the tests, so no test sees this blend; it states the library's rule).
-    let y = _mm256_xor_ps(x, k(-0.0));
-    let (q1, q2) = (
-        k(f32::from_bits(0xbd08_8868)),
-        k(f32::from_bits(0x3acf_3010)),
-    );
-    let hfx = mul(k(0.5), y);
-    let hxs = mul(y, hfx);
-    let r1 = add(k(1.0), mul(hxs, add(q1, mul(hxs, q2))));
-    let t = sub(k(3.0), mul(r1, hfx));
-    let e = mul(hxs, div(sub(r1, t), sub(k(6.0), mul(y, t))));
-    let em1 = sub(y, sub(mul(y, e), hxs));
-    // `phi_with(x, || a)`: its series below `PHI_SERIES_BELOW`, else `a / x`. Where no lane
-    // lies below (the common case inside a medium), no lane has `|y| < 2⁻²⁵ < 10⁻⁴` either,
-    // and both blends are left out.
-    let below = _mm256_cmp_ps::<_CMP_LT_OQ>(x, k(PHI_SERIES_BELOW));
-    let (a, phi) = if _mm256_movemask_ps(below) == 0 {
-        let a = _mm256_xor_ps(em1, k(-0.0));
-        (a, div(a, x))
-    } else {
-        let tiny = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(0x3300_0000), bits));
-        let a = _mm256_xor_ps(_mm256_blendv_ps(em1, y, tiny), k(-0.0));
-        let series = sub(
-            k(1.0),
-            mul(
-                x,
-                sub(k(0.5), mul(x, sub(k(1.0 / 6.0), mul(x, k(1.0 / 24.0))))),
-            ),
-        );
-        (a, _mm256_blendv_ps(div(a, x), series, below))
-    };
+    let [p0, p1, p2, p3, p4, p5, p6] = PHI_POLY.map(|b| k(f32::from_bits(b)));
+    let x2 = mul(x, x);
+    let x4 = mul(x2, x2);
+    let low = add(add(p0, mul(p1, x)), mul(add(p2, mul(p3, x)), x2));
+    let high = add(add(p4, mul(p5, x)), mul(p6, x2));
+    let phi = add(low, mul(high, x4));
     let g = mul(k(d), phi);
-    ([mul(c0, g), mul(c1, g), mul(c2, g)], a)
+    ([mul(c0, g), mul(c1, g), mul(c2, g)], mul(x, phi))
 }
 
-/// `integrate_step` per lane: [`extinction_step`] where a lane's `τd` leaves `expm1f`'s
-/// primary range (kept out of line, so that the lanes' path inlines into the kernel).
+/// `integrate_step` per lane: [`extinction_step`] where a lane's `τd` is not below 1 (kept
+/// out of line, so that the lanes' path inlines into the kernel).
 #[cold]
 #[inline(never)]
 #[target_feature(enable = "avx2,fma")]
@@ -1315,10 +1289,10 @@ mod tests {
     }
 
     /// `extinction_step`, clamped as the kernel clamps it, is `integrate_step` in every lane:
-    /// packets of sums all within `expm1f`'s primary range or at 0 (the lanes' path), with
-    /// and without lanes below `PHI_SERIES_BELOW` (the path without the blends and the path
-    /// with them), whole packets of tiny `τd` (`2⁻³⁰..2⁻¹⁰`), and packets mixed with larger,
-    /// NaN and infinite `τ` (the per-lane path); colors `C^τ ≤ τ` mostly, so that `φ` shows.
+    /// packets of sums all below `τd = 1` (the lanes' path: `phi_poly`), among them whole
+    /// packets of tiny `τd` (`2⁻³⁰..2⁻¹⁰`) and packets just below 1, and packets with a lane
+    /// at or above 1, NaN, infinite or negative `τ` (the per-lane path); colors `C^τ ≤ τ`
+    /// mostly, so that `φ` shows (the clamp of `C̃` into `[0, α]` would hide it).
     #[test]
     #[allow(unsafe_code)]
     fn extinction_step_is_integrate_step_per_lane() {
@@ -1340,14 +1314,17 @@ mod tests {
                 _ => 2.0,
             };
             let wild = case % 3 == 0;
-            // `τ` per lane: some whole packets of tiny `τd` (below `PHI_SERIES_BELOW`, where
-            // `φ` is its series, down to `expm1f`'s `|y| < 2⁻²⁵`), else mostly the primary
-            // range, with single lanes of edge values.
+            // `τ` per lane: some whole packets of tiny `τd`, some of `τd` in `[0.9, 1)`, else
+            // mostly `[0, 0.9)`, with single lanes of edge values (1 and just below it among
+            // them).
             let tiny = case % 7 == 0;
+            let near_one = case % 11 == 0;
             let tau: [f32; LANES] = core::array::from_fn(|l| {
                 let u = unit();
                 if tiny {
                     libm::exp2f(-10.0 - 20.0 * u) / d
+                } else if near_one {
+                    (0.9 + 0.1 * u).min(f32::from_bits(1.0f32.to_bits() - 1)) / d
                 } else if l == case % 8 && u < 0.1 {
                     match l % 4 {
                         0 => 0.0,
@@ -1356,14 +1333,16 @@ mod tests {
                         _ => 2e-4,
                     }
                 } else if wild && l == 3 {
-                    match case % 4 {
+                    match case % 6 {
                         0 => f32::NAN,
                         1 => f32::INFINITY,
                         2 => 40.0,
+                        3 => 1.0 / d,
+                        4 => 1.02 / d,
                         _ => -1.0,
                     }
                 } else {
-                    u * 0.34 / d
+                    u * 0.9 / d
                 }
             });
             // `C^τ = τ·C` (so that the clamps of `C̃` into `[0, α]` rarely hide `φ`), and

@@ -1,7 +1,7 @@
 //! Opacity correction and the stable forms of the extinction integral.
 //!
 //! * [`phi`]: `φ(x) = (1 − e^(−x))/x`, with `φ(0) = 1`, so that `α/τ = d·φ(τd)` stays finite
-//!   as `τ → 0`.
+//!   as `τ → 0`; [`phi_poly`], the same below 1 by a polynomial (the extinction kernels' `φ`).
 //! * [`correct`]: opacity correction `α_d = 1 − (1 − α)^(d/d′)`, `C̃_d = C̃·α_d/α`, computed as
 //!   `α_d = −expm1((d/d′)·ln1p(−α))` and `α_d/α = (d/d′)·φ(x)·ψ(α)` with
 //!   `x = −(d/d′)·ln1p(−α)` and `ψ(α) = −ln1p(−α)/α`, which is finite for every `α < 1`
@@ -27,55 +27,54 @@ pub const PHI_SERIES_BELOW: f32 = 1.0e-4;
 /// Negative `x` (not produced by the kernels) is evaluated by the same formula; NaN gives NaN.
 #[inline]
 pub fn phi(x: f32) -> f32 {
-    phi_with(x, || -libm::expm1f(-x))
-}
-
-/// The arguments `x` for which `libm::expm1f` takes its primary-range path (no argument
-/// reduction, `k = 0`): `2⁻²⁵ ≤ |x| ≤ ½ ln 2` by the bits of `|x|` (NaN excluded).
-#[inline(always)]
-fn expm1f_primary(x: f32) -> bool {
-    (0x3300_0000..=0x3eb1_7218).contains(&(x.to_bits() & 0x7fff_ffff))
-}
-
-/// `libm::expm1f` of four lanes, bit-identical lane by lane: where every lane lies in the
-/// library's primary range (`2⁻²⁵ ≤ |x| ≤ ½ ln 2`, the common case of the extinction kernels,
-/// whose `τd` is mostly below 0.35) its rational approximation without branches, so that the
-/// four lanes vectorise; otherwise `libm::expm1f` per lane. (The host suite checks the
-/// primary range exhaustively.)
-#[inline(always)]
-pub(crate) fn expm1f_x4(x: [f32; 4]) -> [f32; 4] {
-    if !x.iter().all(|&x| expm1f_primary(x)) {
-        return x.map(libm::expm1f);
-    }
-    // FreeBSD's `s_expm1f.c` (as `libm` 0.2) for `k = 0`, its constants by their bits.
-    let q1 = f32::from_bits(0xbd08_8868); // −0x888868p−28
-    let q2 = f32::from_bits(0x3acf_3010); // 0xcf3010p−33
-    x.map(|x| {
-        let hfx = 0.5 * x;
-        let hxs = x * hfx;
-        let r1 = 1.0 + hxs * (q1 + hxs * q2);
-        let t = 3.0 - r1 * hfx;
-        let e = hxs * ((r1 - t) / (6.0 - x * t));
-        x - (x * e - hxs)
-    })
-}
-
-/// [`expm1f_x4`], exposed for the host suite's exhaustive check (not part of the API).
-#[doc(hidden)]
-pub fn expm1f_lanes(x: [f32; 4]) -> [f32; 4] {
-    expm1f_x4(x)
-}
-
-/// [`phi`] with `1 − e^(−x)` supplied by the caller (who has computed it already): the
-/// extinction step needs both, and one `expm1f` per sample instead of two. Bit-identical to
-/// `phi(x)` when `one_minus_exp` returns `-libm::expm1f(-x)`.
-#[inline(always)]
-pub(crate) fn phi_with(x: f32, one_minus_exp: impl FnOnce() -> f32) -> f32 {
     if x < PHI_SERIES_BELOW {
         1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0)))
     } else {
-        one_minus_exp() / x
+        -libm::expm1f(-x) / x
     }
+}
+
+/// The extinction step's `φ` ([`phi_poly`]) is a polynomial below this `x = τd` (and its
+/// `α = x·φ(x)`); from here on the step uses `libm::expm1f`.
+pub const PHI_POLY_BELOW: f32 = 1.0;
+
+/// The coefficients `c₀ … c₆` of [`phi_poly`] by their bits: a relative minimax (Remez) fit of
+/// `φ` on `[0, 1]` of degree 6 (its own error below `2.5·10⁻⁹`), each rounded to `f32`.
+pub(crate) const PHI_POLY: [u32; 7] = [
+    0x3f80_0000, // 1
+    0xbeff_fff8, // −0.49999976
+    0x3e2a_a9bb, // 0.16666310
+    0xbd2a_948e, // −0.041645579
+    0x3c07_8be1, // 0.0082730958
+    0xbaaa_37ed, // −0.0012986638
+    0x3906_9df0, // 0.00012838072
+];
+
+/// `φ(x) = (1 − e^(−x))/x` for `0 ≤ x < 1` ([`PHI_POLY_BELOW`]) by a polynomial of degree 6 in
+/// Estrin's form: `(c₀ + c₁x) + (c₂ + c₃x)·x² + ((c₄ + c₅x) + c₆x²)·x⁴`, with no division and
+/// no branch, each operation an IEEE `f32` `+` or `×` (no fused multiply-add, so every unit,
+/// scalar or in lanes, rounds it alike). Its chain of dependent operations is six deep where
+/// `−expm1f(−x)/x` is about twenty with two divisions: the extinction kernels use it (with
+/// `α = x·φ(x)`) below `τd = 1`.
+///
+/// Error bound: relative error at most `2ε` (`ε = 2⁻²³`) for every `x` in `[0, 1)`
+/// (`PHI_POLY_REL` in the tests' tolerance table; the host suite checks every `f32` from
+/// `2⁻¹²` to 1 and a sample below). Outside `[0, 1)` it is not `φ`.
+///
+/// ```
+/// use volsample::opacity::{phi, phi_poly};
+/// let x = 0.25f32;
+/// assert!((phi_poly(x) - phi(x)).abs() <= 3.0 * f32::EPSILON);
+/// assert_eq!(phi_poly(0.0), 1.0);
+/// ```
+#[inline(always)]
+pub fn phi_poly(x: f32) -> f32 {
+    let [c0, c1, c2, c3, c4, c5, c6] = PHI_POLY.map(f32::from_bits);
+    let x2 = x * x;
+    let x4 = x2 * x2;
+    let low = (c0 + c1 * x) + (c2 + c3 * x) * x2;
+    let high = (c4 + c5 * x) + c6 * x2;
+    low + high * x4
 }
 
 /// `ψ(α) = −ln(1 − α)/α` for `α ∈ (0, 1)`, `ψ(0) = 1` (the limit).

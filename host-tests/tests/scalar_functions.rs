@@ -6,7 +6,7 @@ use proptest::prelude::*;
 use volsample::classify::{gradient, Isosurface};
 use volsample::filter::trilinear_weights;
 use volsample::mode::integrate_step;
-use volsample::opacity::{phi, PHI_SERIES_BELOW};
+use volsample::opacity::{phi, phi_poly, PHI_POLY_BELOW, PHI_SERIES_BELOW};
 use volsample::shade::Light;
 use volsample::{ControlPoint, ExtinctionF32, StraightF32, TransferFunction, Volume};
 use volsample_host::reference::{self, RefExtinction};
@@ -164,28 +164,72 @@ proptest! {
     }
 }
 
-/// `integrate_step` reuses its `α = −expm1(−τd)` for `φ(τd)` (one `expm1f` per sample): its
-/// color below `τd = 1` must stay bit-identical to `C^τ·(d·φ(τd))` with `φ` computed on its
-/// own, on both sides of the series switch-over and up to the branch at 1.
+/// `phi_poly` against the f64 `φ`: every `f32` from `2⁻¹²` up to `PHI_POLY_BELOW` (where the
+/// polynomial's own error and its rounding matter) and every 61st below, down to 0, within
+/// `PHI_POLY_REL`; two threads.
 #[test]
-fn integrate_step_color_uses_phi_bit_for_bit() {
+fn phi_poly_relative_error() {
+    let worst_in = |bits: std::ops::Range<u32>, stride: usize| {
+        let mut worst = (0.0f64, 0.0f32);
+        for b in bits.step_by(stride) {
+            let x = f32::from_bits(b);
+            let want = reference::phi(f64::from(x));
+            let rel = ((f64::from(phi_poly(x)) - want) / want).abs();
+            if rel > worst.0 {
+                worst = (rel, x);
+            }
+        }
+        worst
+    };
+    let (lo, hi) = ((2.0f32).powi(-12).to_bits(), PHI_POLY_BELOW.to_bits());
+    let mid = lo + (hi - lo) / 2;
+    let worst = std::thread::scope(|s| {
+        let upper = s.spawn(|| worst_in(mid..hi, 1));
+        let parts = [worst_in(lo..mid, 1), worst_in(0..lo, 61)];
+        parts
+            .into_iter()
+            .chain(upper.join().ok())
+            .fold((0.0f64, 0.0f32), |a, b| if b.0 > a.0 { b } else { a })
+    });
+    assert_eq!(phi_poly(0.0), 1.0);
+    println!(
+        "phi_poly: worst relative error {:.3} of the bound, at x = {:e}",
+        worst.0 / tol::PHI_POLY_REL,
+        worst.1
+    );
+    assert!(
+        worst.0 <= tol::PHI_POLY_REL,
+        "{:e} at x = {:e}",
+        worst.0,
+        worst.1
+    );
+}
+
+/// Below `τd = 1`, `integrate_step` is `α = x·φ` and `C̃ = C^τ·(d·φ)` with `φ = phi_poly(x)`
+/// bit for bit (so that the kernels in lanes, which evaluate the same expressions, match it),
+/// from tiny `τd` up to the branch at 1.
+#[test]
+fn integrate_step_below_one_uses_phi_poly_bit_for_bit() {
     let mut x = PHI_SERIES_BELOW / 64.0;
     let mut checked = 0;
-    while x < 1.0 {
+    while x < PHI_POLY_BELOW {
         for d in [0.25f32, 0.5, 1.0, 1.7] {
             let tau = x / d;
             let xd = tau * d;
-            if xd >= 1.0 {
+            if xd >= PHI_POLY_BELOW {
                 continue;
             }
             let c_tau = [0.3 * tau, 0.6 * tau, 0.9 * tau];
             let s = integrate_step(c_tau, tau, d);
-            let g = d * phi(xd);
-            let want = c_tau.map(|c| (c * g).max(0.0).min(s.a));
+            let phi = phi_poly(xd);
+            let a = xd * phi;
+            let g = d * phi;
+            let want = c_tau.map(|c| (c * g).max(0.0).min(a));
+            assert_eq!(s.a.to_bits(), a.to_bits(), "α: τ = {tau}, d = {d}");
             assert_eq!(
                 s.c.map(f32::to_bits),
                 want.map(f32::to_bits),
-                "τ = {tau}, d = {d}"
+                "C̃: τ = {tau}, d = {d}"
             );
             checked += 1;
         }

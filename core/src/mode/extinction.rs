@@ -6,7 +6,7 @@ use super::{
 };
 use crate::lanes::F32x4;
 use crate::num::Num;
-use crate::opacity::{expm1f_x4, phi_with};
+use crate::opacity::{phi_poly, PHI_POLY_BELOW};
 use crate::sample::{Interp, Sample};
 use crate::voxel::ExtinctionVoxel;
 
@@ -14,8 +14,9 @@ use crate::voxel::ExtinctionVoxel;
 /// step: `α = 1 − e^(−τd)`, `C̃ = C^τ·α/τ`.
 ///
 /// Stable forms: for `τd < 1`, `C̃ = C^τ·d·φ(τd)` (finite as `τ → 0`, where it tends to
-/// `C^τ·d`); for `τd ≥ 1`, `C̃ = (C^τ/τ)·α` (no `∞·0` when `τd` overflows). `α` is
-/// `−expm1(−τd)` throughout. No opacity correction is ever needed: the step enters here.
+/// `C^τ·d`) and `α = τd·φ(τd)`, with `φ` by a polynomial ([`phi_poly`]); for `τd ≥ 1`,
+/// `α = −expm1(−τd)` and `C̃ = (C^τ/τ)·α` (no `∞·0` when `τd` overflows). No opacity
+/// correction is ever needed: the step enters here.
 ///
 /// Error bound (f32 against the f64 reference on the same stored values, any step `d`): `α`
 /// and each `C̃` within `(1 + taps·(1 + d·τ_max))·ε`, `ε = 2⁻²³`, `τ_max` the largest stored
@@ -67,31 +68,33 @@ impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
 }
 
 /// [`integrate_step`] for four samples, lane by lane bit-identical to it. Where every lane has
-/// `τd < 1` (the common case), in lanes: `1 − e^(−τd)` by [`expm1f_x4`], `φ` and `C̃ = C^τ·d·φ`
-/// with the same operations as `integrate_step`; otherwise `integrate_step` per lane.
+/// `τd < 1` (the common case), in lanes: `φ` by [`phi_poly`], `α = τd·φ` and `C̃ = C^τ·d·φ`
+/// with the same operations as `integrate_step` and no branch, so that the four lanes
+/// vectorise; otherwise `integrate_step` per lane.
 #[inline(always)]
 pub(crate) fn integrate_step_x4(i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
     let lanes = unpack_interp(i);
     let x = lanes.map(|l| l.a.max(0.0) * d);
-    if !x.iter().all(|&x| x < 1.0) {
+    if !x.iter().all(|&x| x < PHI_POLY_BELOW) {
         return pack_interp(lanes.map(|l| {
             let s = integrate_step(l.c, l.a, d);
             Interp { c: s.c, a: s.a }
         }));
     }
-    let em1 = expm1f_x4(x.map(|x| -x));
     let mut out = lanes;
-    for ((o, &x), &em1) in out.iter_mut().zip(&x).zip(&em1) {
-        let a = -em1;
-        let g = d * phi_with(x, || a);
-        let s = Sample::clamped(o.c.map(|c| c * g), a);
+    for (o, &x) in out.iter_mut().zip(&x) {
+        let phi = phi_poly(x);
+        let g = d * phi;
+        let s = Sample::clamped(o.c.map(|c| c * g), x * phi);
         *o = Interp { c: s.c, a: s.a };
     }
     pack_interp(out)
 }
 
 /// One step of the emission–absorption integral with constant `C^τ` and `τ` over length `d`:
-/// `α = 1 − e^(−τd)`, `C̃ = C^τ·α/τ` in the stable forms of [`ExtinctionWeighted`].
+/// `α = 1 − e^(−τd)`, `C̃ = C^τ·α/τ` in the stable forms of [`ExtinctionWeighted`]: for
+/// `x = τd < 1`, `φ = phi_poly(x)`, `α = x·φ` and `C̃ = C^τ·(d·φ)` (no division, no
+/// `expm1f`); from 1 on, `α = −expm1f(−x)` and `C̃ = (C^τ/τ)·α`.
 ///
 /// Error bound: `α` and each `C̃` within `6ε` (`ε = 2⁻²³`) of the exact value for the given
 /// `f32` input (`INTEGRATE_STEP_ABS` in the tests). Negative or NaN `τ` is read as 0.
@@ -99,13 +102,12 @@ pub(crate) fn integrate_step_x4(i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
 pub fn integrate_step(c_tau: [f32; 3], tau: f32, d: f32) -> Sample {
     let tau = tau.max(0.0);
     let x = tau * d;
-    let a = -libm::expm1f(-x);
-    let c = if x < 1.0 {
-        // φ(x) reuses α = 1 − e^(−x): one `expm1f` per sample (bit-identical to `phi(x)`).
-        let g = d * phi_with(x, || a);
-        c_tau.map(|c| c * g)
+    if x < PHI_POLY_BELOW {
+        let phi = phi_poly(x);
+        let g = d * phi;
+        Sample::clamped(c_tau.map(|c| c * g), x * phi)
     } else {
-        c_tau.map(|c| (c / tau) * a)
-    };
-    Sample::clamped(c, a)
+        let a = -libm::expm1f(-x);
+        Sample::clamped(c_tau.map(|c| (c / tau) * a), a)
+    }
 }

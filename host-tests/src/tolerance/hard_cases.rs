@@ -20,9 +20,10 @@ pub const CORRECTION_REL: f64 = 12.0 * EPS32;
 
 /// [`volsample::mode::integrate_step`], relative error of `α` and each `C̃` against the
 /// exact step of the same `f32` input (the absolute bound is `INTEGRATE_STEP_ABS`): `τ·d`
-/// (½ ulp, passed on with a factor `x·e^(−x)/(1 − e^(−x)) ≤ 1`), `expm1` (1 ulp), and for
-/// `C̃` either `d·φ(x)` (`φ` within `PHI_REL = 4ε`) and the product, or `C^τ/τ` and the
-/// product with `α`: `8ε`, plus [`SUBNORMAL_FLOOR`] per operation with a subnormal result.
+/// (½ ulp, passed on with a factor `x·e^(−x)/(1 − e^(−x)) ≤ 1`); below `τd = 1`
+/// `φ = phi_poly(x)` (within `PHI_POLY_REL = 2ε`), `α = x·φ` and `C̃ = C^τ·(d·φ)` (two
+/// roundings each); from 1 on `expm1` (1 ulp) and `C̃ = (C^τ/τ)·α` (two roundings): `8ε`,
+/// plus [`SUBNORMAL_FLOOR`] per operation with a subnormal result.
 pub const INTEGRATE_STEP_REL: f64 = 8.0 * EPS32;
 
 /// Unit roundoff of `f32`, `u = 2⁻²⁴`.

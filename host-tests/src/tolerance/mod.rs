@@ -86,6 +86,9 @@ pub const EXTINCTION_TRUTH_PER_STEP: f64 = 0.05;
 /// [`volsample::opacity::phi`]: relative error against the f64 `φ`.
 pub const PHI_REL: f64 = 4.0 * EPS32;
 
+/// [`volsample::opacity::phi_poly`] on `[0, 1)`: relative error against the f64 `φ`.
+pub const PHI_POLY_REL: f64 = 2.0 * EPS32;
+
 /// [`volsample::mode::integrate_step`]: absolute error of `α` and each `C̃`.
 pub const INTEGRATE_STEP_ABS: f64 = 6.0 * EPS32;
 

@@ -1,5 +1,5 @@
-//! Group 2, extinction: `τ = 0` and `−0`, subnormal `τ`, `τd` at the `φ` series switch-over
-//! ([`PHI_SERIES_BELOW`]) and at the kernel's `τd = 1` branch, huge (`MAX_TAU`) and capped
+//! Group 2, extinction: `τ = 0` and `−0`, subnormal `τ`, `τd` at the kernel's `τd = 1` branch
+//! (`PHI_POLY_BELOW`: `phi_poly` below, `expm1f` from there on), huge (`MAX_TAU`) and capped
 //! (`α = 1`) `τ`; `d/d′ = 10^±6` in every mode; `d′ → 0`.
 //!
 //! Already covered elsewhere: `φ` one ulp at a time across the switch-over and `integrate_step`
@@ -8,7 +8,7 @@
 //! kernel's extremes (`int_extinction::extremes_bit_exact_and_within_bounds`).
 
 use volsample::mode::integrate_step;
-use volsample::opacity::PHI_SERIES_BELOW;
+use volsample::opacity::PHI_POLY_BELOW;
 use volsample::voxel::MAX_TAU;
 use volsample::{
     AssociatedF32, Error, ExtinctionF32, ExtinctionWeighted, FrontToBack, Nearest, OpacityWeighted,
@@ -84,8 +84,8 @@ fn integrate_step_at_the_edges() {
             }
         }
     }
-    // `τd` one ulp at a time across the φ series switch-over and the `τd = 1` branch.
-    for centre in [PHI_SERIES_BELOW, 1.0] {
+    // `τd` one ulp at a time across the `τd = 1` branch.
+    for centre in [PHI_POLY_BELOW] {
         for d in [1.0f32, 0.5, 1e-6, 1e6] {
             let mut x = centre;
             for _ in 0..64 {
