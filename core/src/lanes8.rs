@@ -690,8 +690,8 @@ fn sums<const MODE: u8>(
 /// and `C̃ = C^τ·(d·φ)` as `integrate_step`; otherwise `integrate_step` per lane
 /// ([`extinction_step_per_lane`], out of line: with it inside, this function was not inlined
 /// into the kernel, and inlining it took the packets from 7.1 to 6.4 ns/sample in a probe).
-/// Its chain of dependent operations is short (the polynomial is six deep): with
-/// `libm::expm1f`'s rational form and `φ = α/x` (two divisions, about twenty deep) the
+/// Its chain of dependent operations is short (the polynomial is five deep): with
+/// `libm::expm1f`'s rational form and `φ = α/x` (seventeen deep, two divisions among them) the
 /// packets took 6.2–6.3 ns/sample in a probe, with Horner's form of the polynomial (twelve
 /// deep) 5.75, with Estrin's 5.4–5.5.
 #[inline]

@@ -53,8 +53,8 @@ pub(crate) const PHI_POLY: [u32; 7] = [
 /// `φ(x) = (1 − e^(−x))/x` for `0 ≤ x < 1` ([`PHI_POLY_BELOW`]) by a polynomial of degree 6 in
 /// Estrin's form: `(c₀ + c₁x) + (c₂ + c₃x)·x² + ((c₄ + c₅x) + c₆x²)·x⁴`, with no division and
 /// no branch, each operation an IEEE `f32` `+` or `×` (no fused multiply-add, so every unit,
-/// scalar or in lanes, rounds it alike). Its chain of dependent operations is six deep where
-/// `−expm1f(−x)/x` is about twenty with two divisions: the extinction kernels use it (with
+/// scalar or in lanes, rounds it alike). Its chain of dependent operations is five deep where
+/// `−expm1f(−x)/x` is seventeen deep, two divisions among them: the extinction kernels use it (with
 /// `α = x·φ(x)`) below `τd = 1`.
 ///
 /// Error bound: relative error at most `2ε` (`ε = 2⁻²³`) for every `x` in `[0, 1)`
