@@ -540,15 +540,19 @@ fn div65280(n: __m256i) -> __m256i {
     _mm256_blend_epi32::<0b1010_1010>(even, odd)
 }
 
-/// `⌊y + ½⌋` (**round half up**) per lane for `0 ≤ y < 2^22` (`y = 256·p`, exact): for
-/// `y ≥ ½` the rounded `y + ½`, truncated (a unit test checks every such `f32`); below, 0
-/// (there the rounded sum is 1 for `y = ½ − 2⁻²⁵`).
+/// `⌊256·p + ½⌋` (**round half up**) per lane for `0 ≤ p < 2^14` (`256·p` exact): for
+/// `256·p ≥ ½`, i.e. `p ≥ 2⁻⁹`, the rounded `256·p + ½` (one fused multiply-add, the same
+/// rounding as the exact product's sum), truncated (a unit test checks every such `f32`);
+/// below, 0 (there the rounded sum is 1 for `256·p = ½ − 2⁻²⁵`). The comparison runs beside
+/// the multiply-add, not after a product: the integer packets went from 1.03–1.04 to
+/// 1.01–1.015 of the `OpacityWeighted` packets' time in a probe (4.70–4.77 → 4.62–4.63
+/// ns/sample).
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-fn quantize8(y: __m256) -> __m256i {
-    let half = _mm256_set1_ps(0.5);
-    let up = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GE_OQ>(y, half));
-    _mm256_and_si256(_mm256_cvttps_epi32(_mm256_add_ps(y, half)), up)
+fn quantize8(p: __m256) -> __m256i {
+    let up = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_GE_OQ>(p, _mm256_set1_ps(1.0 / 512.0)));
+    let y = _mm256_fmadd_ps(p, _mm256_set1_ps(256.0), _mm256_set1_ps(0.5));
+    _mm256_and_si256(_mm256_cvttps_epi32(y), up)
 }
 
 /// `(2^32 − 1)/255`: `⌊q/255⌋ = ⌊(q + 1)·RECIP255/2^32⌋` for `q < 2^24` (see [`int_sums`]; a
@@ -1018,7 +1022,7 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
                 // the index `raw >> 8` and the fraction `raw & 255` (an `i32` bit pattern);
                 // the index is at most `n − 1`, the second tap clamped to it.
                 let p = _mm256_min_ps(_mm256_max_ps(p, zf), _mm256_sub_ps(n, one));
-                let raw = quantize8(_mm256_mul_ps(p, _mm256_set1_ps(256.0)));
+                let raw = quantize8(p);
                 let i = _mm256_srli_epi32::<8>(raw);
                 let f = _mm256_and_si256(raw, _mm256_set1_epi32(0xff));
                 return (
@@ -1413,24 +1417,24 @@ mod tests {
         }
     }
 
-    /// `quantize8` is `⌊y + ½⌋` for every `f32` `y` in `[0, 2^22)` (`IntPos::quantize`'s
+    /// `quantize8` is `⌊256·p + ½⌋` for every `f32` `p` in `[0, 2^14)` (`IntPos::quantize`'s
     /// `⌊x·2^8 + ½⌋`, which it computes in `f64`), in every lane.
     #[test]
     #[allow(unsafe_code)]
-    fn quantization_rounds_half_up_for_every_f32_below_2_22() {
+    fn quantization_rounds_half_up_for_every_f32_below_2_14() {
         // SAFETY: as above.
         unsafe { quantize8_check() }
     }
 
     #[target_feature(enable = "avx2,fma")]
     fn quantize8_check() {
-        let end = 4_194_304f32.to_bits();
+        let end = 16_384f32.to_bits();
         for b0 in (0..end).step_by(LANES) {
             let lanes: [f32; LANES] = core::array::from_fn(|l| {
                 f32::from_bits((b0 + ((l as u32 + b0 / 8) & 7)).min(end - 1))
             });
             let got = to_i32s(quantize8(super::lanes(lanes)));
-            let want = lanes.map(|y| libm::floor(f64::from(y) + 0.5) as i32);
+            let want = lanes.map(|p| libm::floor(f64::from(p) * 256.0 + 0.5) as i32);
             assert_eq!(got, want, "{lanes:?}");
         }
     }
