@@ -76,10 +76,7 @@ pub(crate) fn integrate_step_x4(i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
     let lanes = unpack_interp(i);
     let x = lanes.map(|l| l.a.max(0.0) * d);
     if !x.iter().all(|&x| x < PHI_POLY_BELOW) {
-        return pack_interp(lanes.map(|l| {
-            let s = integrate_step(l.c, l.a, d);
-            Interp { c: s.c, a: s.a }
-        }));
+        return integrate_step_per_lane(lanes, d);
     }
     let mut out = lanes;
     for (o, &x) in out.iter_mut().zip(&x) {
@@ -89,6 +86,19 @@ pub(crate) fn integrate_step_x4(i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
         *o = Interp { c: s.c, a: s.a };
     }
     pack_interp(out)
+}
+
+/// [`integrate_step`] of each lane: [`integrate_step_x4`] where a lane's `τd` is not below 1
+/// (out of line, so that the lanes' path stays small where it is inlined: with it inlined,
+/// `cast` of `ExtinctionWeightedU8` took 28.0–29.0 ns/sample in a probe of the AVX2 build,
+/// out of line 21.8, against 26.8–27.3 with the former `expm1f` in lanes).
+#[cold]
+#[inline(never)]
+fn integrate_step_per_lane(lanes: [Interp<f32>; 4], d: f32) -> Interp<F32x4> {
+    pack_interp(lanes.map(|l| {
+        let s = integrate_step(l.c, l.a, d);
+        Interp { c: s.c, a: s.a }
+    }))
 }
 
 /// One step of the emission–absorption integral with constant `C^τ` and `τ` over length `d`:
