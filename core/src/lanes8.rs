@@ -35,9 +35,9 @@
 //! and `C̃ = α·C` for `Separate`; `Σ w·C^τ`, `Σ w·τ` with `τ` from the `TauTable` and
 //! `integrate_step` for `ExtinctionWeightedU8` (and the same sums and step of the stored
 //! `[C^τ, τ]` for `ExtinctionWeighted` over `ExtinctionF32`), its polynomial `φ` in lanes
-//! where every lane's `τd` is below 1, else per lane), the clamps, and the front-to-back step — with no fused multiply-add
-//! (IEEE `+`, `−`, `×`, `÷` round the same in any unit). A byte `n` becomes the correctly
-//! rounded `n/255` of the table the one-ray kernel reads as `n·h + (n·l)` with `1/255 = h + l`
+//! where every lane's `τd` is below 1, else per lane), the clamps, and the front-to-back
+//! step — with no fused multiply-add (IEEE `+`, `−`, `×`, `÷` round the same in any unit).
+//! A byte `n` becomes the correctly rounded `n/255` of the table the one-ray kernel reads as `n·h + (n·l)` with `1/255 = h + l`
 //! split into two `f32` (one product, one fused multiply-add), which is the rounded quotient
 //! for every byte (a unit test here checks all 256).
 //! `tests/fast_paths.rs` compares `cast_rays` with `cast` bit for bit when the kernel is
