@@ -37,9 +37,10 @@
 //! `[C^τ, τ]` for `ExtinctionWeighted` over `ExtinctionF32`), its polynomial `φ` in lanes
 //! where every lane's `τd` is below 1, else per lane), the clamps, and the front-to-back
 //! step — with no fused multiply-add (IEEE `+`, `−`, `×`, `÷` round the same in any unit).
-//! A byte `n` becomes the correctly rounded `n/255` of the table the one-ray kernel reads as `n·h + (n·l)` with `1/255 = h + l`
-//! split into two `f32` (one product, one fused multiply-add), which is the rounded quotient
-//! for every byte (a unit test here checks all 256).
+//! A byte `n` becomes the correctly rounded `n/255` of the table the one-ray kernel reads as
+//! `n·h + (n·l)` with `1/255 = h + l` split into two `f32` (one product, one fused
+//! multiply-add), which is the rounded quotient for every byte (a unit test here checks all
+//! 256).
 //! `tests/fast_paths.rs` compares `cast_rays` with `cast` bit for bit when the kernel is
 //! compiled in ([`AVX2_PACKETS`](crate::render::AVX2_PACKETS)).
 //!
