@@ -48,9 +48,11 @@
 //! [`IntRayMarcher::cast`](crate::fixed_point::IntRayMarcher::cast) the same way: the
 //! positions are the float marcher's, each clamped into `[0, n − 1]` and quantized with
 //! round half up to 8 fractional bits (exactly, in `f32`, for volumes up to `2^14` voxels
-//! per axis: [`quantize8`]); the taps' bytes stay integers; [`int_sums`] forms
-//! `OpacityWeighted`'s exact sums axis by axis in `u32` lanes and the last axis's color sums
-//! in 64-bit lanes (the widths are in its doc), and rounds them as the portable kernel does;
+//! per axis: [`quantize8`]); the taps' bytes stay integers, two neighbours' packed into
+//! 16-bit halves as `α·C − 2^15` and `α` ([`int_pair`], kept so by the reuse); [`int_sums`]
+//! forms `OpacityWeighted`'s exact sums axis by axis, the first by `vpmaddwd`, the second in
+//! `u32` lanes and the last axis's color sums in 64-bit lanes (the widths are in its doc), and
+//! rounds them as the portable kernel does;
 //! compositing is `fixed_point::front_to_back` (`T·x + ONE/2` in a `u32` lane, the quotient by
 //! `ONE` with [`div65280`]), and a lane stops once `A ≥ A_stop`. Unit tests here check
 //! `int_sums` against `IntMode::combine`, `div65280` for every `u32` and `quantize8` for every
@@ -61,7 +63,8 @@
 //! operations), the quantization by a truncation, and the last axis's color sums in 64-bit
 //! lanes (16 operations per color where a split into two 32-bit lerps took 19) brought it to
 //! 4.64–4.67; the whole sample's arithmetic costs about 1.5 ns/sample of it (a probe that
-//! skipped it ran at 3.2).
+//! skipped it ran at 3.2). The quantization by one fused multiply-add took it to 4.62, the
+//! first axis by `vpmaddwd` to 4.40 (0.96 of the float packets).
 //!
 //! **Reuse and prefetch for parallel rays** (the same values, so the same results): where
 //! the eight rays have one direction (an orthographic view), their lanes move from cell to
@@ -395,7 +398,8 @@ fn place<const A: usize>(k: usize) -> usize {
 /// The channels of a cell's eight taps as `f32` (`[r, g, b, α]`, each `n/255` correctly
 /// rounded), kept between steps as two faces across axis `A`: `faces[near ^ s]` holds the
 /// taps of side `s` (see [`face`]), so that a step of one cell along `A` turns the far face
-/// into the near one by flipping `near`.
+/// into the near one by flipping `near`. For `INTEGER_OW` a face holds its two pairs of taps
+/// packed ([`int_pair`]) at places 0 and 2 (and again at 1 and 3).
 struct Cell<const A: usize> {
     faces: [[[__m256; 4]; 4]; 2],
     near: usize,
@@ -446,9 +450,26 @@ impl<const A: usize> Cell<A> {
     ) {
         let [f0, f1] = &mut self.faces;
         let out = if (self.near ^ SIDE) & 1 == 0 { f0 } else { f1 };
+        let [k0, k1, k2, k3] = face::<A>(SIDE);
+        if MODE == INTEGER_OW {
+            // The face's words, then its two pairs (places 0 and 1, 2 and 3: neighbours
+            // along x, or along y for a face across x) packed for `int_sums`, held at places
+            // 0 and 2, and again at 1 and 3 ([`int_pair`]).
+            let [w0, w1, w2, w3] = if A != 0 && taps.pairs {
+                let [w0, w1] = taps.load_pair(k0);
+                let [w2, w3] = taps.load_pair(k2);
+                [w0, w1, w2, w3]
+            } else if taps.inside {
+                [k0, k1, k2, k3].map(|k| taps.load::<true>(k))
+            } else {
+                [k0, k1, k2, k3].map(|k| taps.load::<false>(k))
+            };
+            let [p0, p1] = [int_pair(w0, w1), int_pair(w2, w3)];
+            *out = [p0, p0, p1, p1];
+            return;
+        }
         // Across y or z, a face's taps are two x pairs (`face`); across x, none.
         if A != 0 && taps.pairs {
-            let [k0, _, k2, _] = face::<A>(SIDE);
             let [t0, t1] = taps.load_pair(k0);
             let [t2, t3] = taps.load_pair(k2);
             *out = [
@@ -498,7 +519,7 @@ fn unpack<V: Voxel, const MODE: u8, const INSIDE: bool>(
 
 /// The channels of eight little-endian RGBA words as `f32`: `[r, g, b, α]`, each `n/255`
 /// correctly rounded; for `EXTINCTION_U8` `[τ·r, τ·g, τ·b, τ]` with `τ = taus[α byte]`, as
-/// `TauTable::extinction`; for `INTEGER_OW` the bytes `[r, g, b, α]` as `i32` bit patterns.
+/// `TauTable::extinction` (`INTEGER_OW` reads words, [`int_pair`]).
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn channels<const MODE: u8>(g: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
@@ -509,12 +530,7 @@ fn channels<const MODE: u8>(g: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
         _mm256_and_si256(_mm256_srli_epi32::<8>(g), byte),
         _mm256_and_si256(_mm256_srli_epi32::<16>(g), byte),
     ];
-    let [r, g, b] = bytes;
-    if MODE == INTEGER_OW {
-        let int = _mm256_castsi256_ps;
-        return [int(r), int(g), int(b), int(a)];
-    }
-    let [r, g, b] = [unorm8(r), unorm8(g), unorm8(b)];
+    let [r, g, b] = bytes.map(|n| unorm8(n));
     if MODE == EXTINCTION_U8 {
         // (Every lane is a byte, so the lookup cannot miss.)
         let t = |n: i32| taus.get(usize::from(n as u8)).copied().unwrap_or(0.0);
@@ -563,57 +579,87 @@ const RECIP255: u32 = 0x0101_0101;
 /// `fixed_point::ONE` (opacity 1 in U8.8) in an `i32` lane.
 const INT_ONE: i32 = crate::fixed_point::ONE as i32;
 
-/// The integer `OpacityWeighted` trilinear sample at `F = 8` from the taps' channels
-/// (`pair(p)`, taps `2p` and `2p + 1`: their bytes `[r, g, b, α]`, [`channels`] of
-/// `INTEGER_OW`) and the fractions `f = [fx, fy, fz]` (`0..=255`): `[C̃_r, C̃_g, C̃_b, α]` in
-/// U8.8, bit for bit `IntMode::combine` of `OpacityWeighted` (`ω_i = w_i·α_i`, `S_α = Σ ω_i`,
-/// `S_c = Σ ω_i·C_i` with the exact weights `w_i = wx·wy·wz`, `s = 24`;
-/// `α = ⌊(S_α + 2^15)/2^16⌋`, `C̃ = ⌊(S_c + 255·2^15)/(255·2^16)⌋`).
-///
-/// The sums are the same integers formed axis by axis, with `g = 256 − f` per axis, in
-/// wrapping `u32` lanes where each product and each sum is a true value below `2^32` (so exact
-/// modulo `2^32`, hence exact): along x, per pair of taps, `ω = gx·α₀, fx·α₁ ≤ 2^16` and
-/// `X = ω₀·C₀ + ω₁·C₁ ≤ 256·255²` (`X_α = ω₀ + ω₁`); along y, `Y = gy·X₀ + fy·X₁ ≤
-/// 2^16·255² < 2^32`; along z, `S_α = gz·Y₀ + fz·Y₁ ≤ 2^24·255`, while `S_c < 2^40` is formed
-/// in 64-bit lanes (`vpmuludq` of the even and the odd lanes): `q + 1 = ⌊(S_c + 255·2^15 +
-/// 2^16)/2^16⌋ ≤ 2^24` and `C̃ = ⌊q/255⌋ = ⌊(q + 1)·0x0101_0101/2^32⌋` (`0x0101_0101 =
-/// (2^32 − 1)/255`: with `q = 255k + r`, `(q + 1)/255 − (q + 1)/(255·2^32)` lies in
-/// `(k, k + 1)`; [`RECIP255`]).
+/// [`int_pair`] of two words.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-fn int_sums(pair: impl Fn(usize) -> [[__m256; 4]; 2], f: [__m256i; 3]) -> [__m256; 4] {
-    let [fx, fy, fz] = f;
+fn int_pair_of([w0, w1]: [__m256i; 2]) -> [__m256; 4] {
+    int_pair(w0, w1)
+}
+
+/// Two taps' little-endian RGBA words (`w0`, `w1`, neighbours along the first axis of
+/// [`int_sums`]) packed for its `vpmaddwd`: four vectors whose 32-bit lanes hold the first
+/// tap's value in the low 16 bits and the second's in the high 16 — `α·C − 2^15` for each
+/// color (`α·C ≤ 255² < 2^16`, so the difference fits an `i16`: the top bit of the `u16`
+/// flipped) and `α` itself, as bit patterns. 14 operations per pair, where the channels of
+/// two taps took 12.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn int_pair(w0: __m256i, w1: __m256i) -> [__m256; 4] {
+    // `[r₀ g₀ | r₁ g₁]` and `[b₀ α₀ | b₁ α₁]` per lane (bytes, low 16 bits first).
+    let rg = _mm256_blend_epi16::<0b1010_1010>(w0, _mm256_slli_epi32::<16>(w1));
+    let ba = _mm256_blend_epi16::<0b1010_1010>(_mm256_srli_epi32::<16>(w0), w1);
+    let byte = _mm256_set1_epi16(0xff);
+    let (r, g) = (_mm256_and_si256(rg, byte), _mm256_srli_epi16::<8>(rg));
+    let (b, a) = (_mm256_and_si256(ba, byte), _mm256_srli_epi16::<8>(ba));
+    let flip = _mm256_set1_epi16(i16::MIN);
+    let weighted = |c: __m256i| _mm256_xor_si256(_mm256_mullo_epi16(c, a), flip);
+    [weighted(r), weighted(g), weighted(b), a].map(|v| _mm256_castsi256_ps(v))
+}
+
+/// The integer `OpacityWeighted` trilinear sample at `F = 8` from the taps' pairs along a
+/// first axis (`pair(j)`, [`int_pair`]: for the first axis x, taps `2j` and `2j + 1`; for
+/// y, taps `b` and `b + 2`, `b` = 0, 1, 4, 5) and the fractions `f` (`0..=255`) of the first
+/// axis, the second (x or y, the other one) and z: `[C̃_r, C̃_g, C̃_b, α]` in U8.8, bit for bit
+/// `IntMode::combine` of `OpacityWeighted` (`ω_i = w_i·α_i`, `S_α = Σ ω_i`, `S_c = Σ ω_i·C_i`
+/// with the exact weights `w_i = wx·wy·wz`, `s = 24`; `α = ⌊(S_α + 2^15)/2^16⌋`,
+/// `C̃ = ⌊(S_c + 255·2^15)/(255·2^16)⌋`).
+///
+/// The sums are the same integers formed axis by axis (in any order of the axes, since every
+/// step is exact), with `g = 256 − f` per axis, in wrapping `u32` lanes where each product and
+/// each sum is a true value below `2^32` (so exact modulo `2^32`, hence exact): along the
+/// first axis one `vpmaddwd` per channel and pair, `X = g·(α₀C₀ − 2^15) + f·(α₁C₁ − 2^15) =
+/// g·α₀C₀ + f·α₁C₁ − 2^23` (as `g + f = 256`; `|X| < 2^24`) and `X_α = g·α₀ + f·α₁` (`g ≤ 256`,
+/// `f ≤ 255` and the packed values fit its signed 16-bit operands); along the second,
+/// `Y = g·X₀ + f·X₁`, which for a color is the true sum `≤ 2^16·255² < 2^32` minus `2^31`
+/// modulo `2^32` (so the true sum is `Y` with its top bit flipped); along z, `S_α = gz·Y₀ +
+/// fz·Y₁ ≤ 2^24·255`, while `S_c < 2^40` is formed in 64-bit lanes (`vpmuludq` of the even and
+/// the odd lanes): `q + 1 = ⌊(S_c + 255·2^15 + 2^16)/2^16⌋ ≤ 2^24` and `C̃ = ⌊q/255⌋ =
+/// ⌊(q + 1)·0x0101_0101/2^32⌋` (`0x0101_0101 = (2^32 − 1)/255`: with `q = 255k + r`,
+/// `(q + 1)/255 − (q + 1)/(255·2^32)` lies in `(k, k + 1)`; [`RECIP255`]). The first axis by
+/// `vpmaddwd` (one instruction per channel and pair, where three products and a sum were)
+/// took a probe from 4.62–4.63 to 4.40 ns/sample, 0.96 of the `OpacityWeighted` packets.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn int_sums(pair: impl Fn(usize) -> [__m256; 4], f: [__m256i; 3]) -> [__m256; 4] {
+    let [fp, fq, fz] = f;
     let (add, sub, mul) = (_mm256_add_epi32, _mm256_sub_epi32, _mm256_mullo_epi32);
     let k256 = _mm256_set1_epi32(256);
-    let (gx, gy, gz) = (sub(k256, fx), sub(k256, fy), sub(k256, fz));
-    let (fx, fy, fz) = ((gx, fx), (gy, fy), (gz, fz));
+    let (gp, gq, gz) = (sub(k256, fp), sub(k256, fq), sub(k256, fz));
+    // `g` in the low 16 bits, `f` in the high 16, for `vpmaddwd`.
+    let wp = _mm256_or_si256(gp, _mm256_slli_epi32::<16>(fp));
+    let (fq, fz) = ((gq, fq), (gz, fz));
     let lerp = |a: __m256i, b: __m256i, (g, f): (__m256i, __m256i)| add(mul(a, g), mul(b, f));
-    let int = _mm256_castps_si256;
-    let along_x = |p: usize| {
-        let [[r0, g0, b0, a0], [r1, g1, b1, a1]] = pair(p);
-        let (gx, fx) = fx;
-        // `ω = w·α` of the two taps, then `Σ ω·C` and `Σ ω`.
-        let (w0, w1) = (mul(int(a0), gx), mul(int(a1), fx));
-        let dot = |c0: __m256, c1: __m256| add(mul(w0, int(c0)), mul(w1, int(c1)));
-        [dot(r0, r1), dot(g0, g1), dot(b0, b1), add(w0, w1)]
-    };
-    let along_y = |[r0, g0, b0, a0]: [__m256i; 4], [r1, g1, b1, a1]: [__m256i; 4]| {
+    let along_p = |j: usize| pair(j).map(|v| _mm256_madd_epi16(_mm256_castps_si256(v), wp));
+    let along_q = |[r0, g0, b0, a0]: [__m256i; 4], [r1, g1, b1, a1]: [__m256i; 4]| {
         [
-            lerp(r0, r1, fy),
-            lerp(g0, g1, fy),
-            lerp(b0, b1, fy),
-            lerp(a0, a1, fy),
+            lerp(r0, r1, fq),
+            lerp(g0, g1, fq),
+            lerp(b0, b1, fq),
+            lerp(a0, a1, fq),
         ]
     };
-    let [r0, g0, b0, a0] = along_y(along_x(0), along_x(1));
-    let [r1, g1, b1, a1] = along_y(along_x(2), along_x(3));
+    let [r0, g0, b0, a0] = along_q(along_p(0), along_p(1));
+    let [r1, g1, b1, a1] = along_q(along_p(2), along_p(3));
     let alpha = _mm256_srli_epi32::<16>(add(lerp(a0, a1, fz), _mm256_set1_epi32(1 << 15)));
     let (gz, fz) = fz;
     let (gz_odd, fz_odd) = (_mm256_srli_epi64::<32>(gz), _mm256_srli_epi64::<32>(fz));
     let (mul64, add64) = (_mm256_mul_epu32, _mm256_add_epi64);
     let bias = _mm256_set1_epi64x((255 << 15) + (1 << 16));
     let m = _mm256_set1_epi32(RECIP255 as i32);
+    let top = _mm256_set1_epi32(i32::MIN);
     let color = |y0: __m256i, y1: __m256i| {
+        // The true sums along the second axis (see above).
+        let (y0, y1) = (_mm256_xor_si256(y0, top), _mm256_xor_si256(y1, top));
         let odd = _mm256_srli_epi64::<32>;
         let even_z = add64(add64(mul64(y0, gz), mul64(y1, fz)), bias);
         let odd_z = add64(add64(mul64(odd(y0), gz_odd), mul64(odd(y1), fz_odd)), bias);
@@ -668,24 +714,6 @@ fn mode_sums<const MODE: u8>(
         }
     }
     s
-}
-
-/// The mode's sums ([`mode_sums`] with the weights `w`) or, for `INTEGER_OW`, its sample
-/// ([`int_sums`] with the fractions `f`, `i32` bit patterns) of the taps' channels `pair(p)`.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-fn sums<const MODE: u8>(
-    pair: impl Fn(usize) -> [[__m256; 4]; 2],
-    w: &[__m256; 8],
-    f: [__m256; 3],
-) -> [__m256; 4] {
-    if MODE == INTEGER_OW {
-        let int = _mm256_castps_si256;
-        let [fx, fy, fz] = f;
-        int_sums(pair, [int(fx), int(fy), int(fz)])
-    } else {
-        mode_sums::<MODE>(pair, w)
-    }
 }
 
 /// `integrate_step(C^τ, τ, d)` per lane before its clamps (which the caller applies; they
@@ -1095,7 +1123,6 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
         );
         let w000 = sub(one, rest);
         let w = [w000, w100, w010, w110, w001, w101, w011, xyz];
-        let f = [fx, fy, fz];
 
         // The taps' channels, then the sums from the last tap down (`mode::dot`). With the
         // reuse, the channels are read only where the packet has moved on (here rather than in
@@ -1118,13 +1145,42 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
                 cell.read::<V, MODE, 1>(&taps, taus);
                 cell.at = [at[0], at[7], Cell::<A>::far0(&at)];
             }
-            sums::<MODE>(|p| [cell.tap(2 * p), cell.tap(2 * p + 1)], &w, f)
+            if MODE == INTEGER_OW {
+                // The packed pairs along x, or along y for faces across x (`Cell::read`),
+                // held at the place of their first tap; the fractions in that order.
+                let ([b0, b1, b2, b3], f) = if A == 0 {
+                    ([0, 1, 4, 5], [fy, fx, fz])
+                } else {
+                    ([0, 2, 4, 6], [fx, fy, fz])
+                };
+                let first = |j: usize| match j {
+                    0 => b0,
+                    1 => b1,
+                    2 => b2,
+                    _ => b3,
+                };
+                int_sums(|j| cell.tap(first(j)), f.map(|v| _mm256_castps_si256(v)))
+            } else {
+                mode_sums::<MODE>(|p| [cell.tap(2 * p), cell.tap(2 * p + 1)], &w)
+            }
         } else {
             let taps = Taps::new(data, at);
             let pair =
                 |[lo, hi]: [__m256i; 2]| [channels::<MODE>(lo, taus), channels::<MODE>(hi, taus)];
-            if taps.pairs {
-                sums::<MODE>(|p| pair(taps.load_pair(2 * p)), &w, f)
+            if MODE == INTEGER_OW {
+                // Pairs along x: taps `2j` and `2j + 1`.
+                let f = [fx, fy, fz].map(|v| _mm256_castps_si256(v));
+                if taps.pairs {
+                    int_sums(|j| int_pair_of(taps.load_pair(2 * j)), f)
+                } else if taps.inside {
+                    let load = |k| taps.load::<true>(k);
+                    int_sums(|j| int_pair(load(2 * j), load(2 * j + 1)), f)
+                } else {
+                    let load = |k| taps.load::<false>(k);
+                    int_sums(|j| int_pair(load(2 * j), load(2 * j + 1)), f)
+                }
+            } else if taps.pairs {
+                mode_sums::<MODE>(|p| pair(taps.load_pair(2 * p)), &w)
             } else if taps.inside {
                 let two = |k| {
                     [
@@ -1132,7 +1188,7 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
                         taps.channels::<MODE, true>(k + 1, taus),
                     ]
                 };
-                sums::<MODE>(|p| two(2 * p), &w, f)
+                mode_sums::<MODE>(|p| two(2 * p), &w)
             } else {
                 let two = |k| {
                     [
@@ -1140,7 +1196,7 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
                         taps.channels::<MODE, false>(k + 1, taus),
                     ]
                 };
-                sums::<MODE>(|p| two(2 * p), &w, f)
+                mode_sums::<MODE>(|p| two(2 * p), &w)
             }
         };
         // The sums to composite now, of sample `j − lag`: this step's, or (pipelined) the
@@ -1442,7 +1498,8 @@ mod tests {
 
     /// `int_sums` is `IntMode::combine` of `OpacityWeighted` at `F = 8`, bit for bit: the
     /// widest sums (all bytes 255, and opaque taps of mixed colors), the extreme fractions
-    /// (0, 1, 127, 128, 254, 255 on each axis), and random taps and fractions.
+    /// (0, 1, 127, 128, 254, 255 on each axis), and random taps and fractions; with the taps
+    /// packed into pairs along x and along y ([`int_pair`]).
     #[test]
     #[allow(unsafe_code)]
     fn integer_sums_are_the_portable_kernel() {
@@ -1487,29 +1544,37 @@ mod tests {
                     i32::from_le_bytes(t.unwrap_or(StraightU8([0; 4])).0)
                 }))
             };
-            let ch: [[__m256; 4]; 8] =
-                core::array::from_fn(|k| channels::<INTEGER_OW>(word(k), &[0.0; 256]));
-            let pair = |p: usize| {
-                let c = |k: usize| ch.get(k).copied().unwrap_or([_mm256_setzero_ps(); 4]);
-                [c(2 * p), c(2 * p + 1)]
-            };
             let f = |k: usize| {
                 indices(core::array::from_fn(|l| {
                     frac.get(l).and_then(|f| f.get(k)).copied().unwrap_or(0) as i32
                 }))
             };
-            let got = int_sums(pair, [f(0), f(1), f(2)]).map(|v| to_i32s(_mm256_castps_si256(v)));
-            for l in 0..LANES {
-                let (Some(t), Some(&fr)) = (taps.get(l), frac.get(l)) else {
-                    continue;
-                };
-                let want = crate::OpacityWeighted.combine(t, &IntWeights::trilinear_frac::<8>(fr));
-                let [r, g, b, a] = got.map(|c| c.get(l).copied().unwrap_or(-1));
-                assert_eq!(
-                    ([r, g, b], a),
-                    (want.c().map(i32::from), i32::from(want.a())),
-                    "case {case}, lane {l}: {t:?} {fr:?}"
-                );
+            // Pairs along x (taps `2j`, `2j + 1`), and along y (taps `b`, `b + 2`, with the
+            // fractions of y and x swapped), as the kernel forms them.
+            let along_x = int_sums(
+                |j| int_pair(word(2 * j), word(2 * j + 1)),
+                [f(0), f(1), f(2)],
+            );
+            let base = |j: usize| (j & 1) | ((j >> 1) << 2);
+            let along_y = int_sums(
+                |j| int_pair(word(base(j)), word(base(j) + 2)),
+                [f(1), f(0), f(2)],
+            );
+            for (first, got) in [("x", along_x), ("y", along_y)] {
+                let got = got.map(|v| to_i32s(_mm256_castps_si256(v)));
+                for l in 0..LANES {
+                    let (Some(t), Some(&fr)) = (taps.get(l), frac.get(l)) else {
+                        continue;
+                    };
+                    let want =
+                        crate::OpacityWeighted.combine(t, &IntWeights::trilinear_frac::<8>(fr));
+                    let [r, g, b, a] = got.map(|c| c.get(l).copied().unwrap_or(-1));
+                    assert_eq!(
+                        ([r, g, b], a),
+                        (want.c().map(i32::from), i32::from(want.a())),
+                        "pairs along {first}, case {case}, lane {l}: {t:?} {fr:?}"
+                    );
+                }
             }
         }
     }
