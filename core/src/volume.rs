@@ -105,6 +105,19 @@ impl<'a, V: Voxel> Volume<'a, V> {
         self.data
     }
 
+    /// The same grid over `data`, another view of this volume's voxels (as
+    /// [`Voxel::as_extinction_f32`] gives): not validated again, so only for the data itself.
+    /// (A shorter slice could not make a read panic, since every read is checked, but would
+    /// read wrong voxels.)
+    #[inline(always)]
+    pub(crate) fn with_data<U>(&self, data: &'a [U]) -> Volume<'a, U> {
+        Volume {
+            data,
+            dims: self.dims,
+            d_ref: self.d_ref,
+        }
+    }
+
     /// The voxel at `(x, y, z)`, or `None` outside the grid.
     #[inline]
     pub fn get(&self, x: usize, y: usize, z: usize) -> Option<V> {
@@ -136,6 +149,19 @@ impl<'a, V: Voxel> Volume<'a, V> {
     /// `Some`, the taps equal those of [`fetch_clamped`](Self::fetch_clamped).
     #[inline(always)]
     pub fn cell(&self, x: usize, y: usize, z: usize) -> Option<[V; 8]> {
+        self.cell_map(x, y, z, |v| *v)
+    }
+
+    /// [`cell`](Self::cell) with `f` applied to each voxel in place (no copy of the voxels
+    /// first): `f` of the taps in tap order, or `None` where `cell` gives `None`.
+    #[inline(always)]
+    pub(crate) fn cell_map<R>(
+        &self,
+        x: usize,
+        y: usize,
+        z: usize,
+        f: impl Fn(&V) -> R,
+    ) -> Option<[R; 8]> {
         let [nx, ny, nz] = self.dims;
         // Every axis is at least 1 voxel long (validated), so `n - 1` cannot wrap.
         if x >= nx - 1 || y >= ny - 1 || z >= nz - 1 {
@@ -149,11 +175,11 @@ impl<'a, V: Voxel> Volume<'a, V> {
         let (row0, rest) = cell.split_at_checked(nx)?;
         let (row1, rest) = rest.split_at_checked(plane - nx)?;
         let (row2, row3) = rest.split_at_checked(nx)?;
-        let [v0, v1] = *row0.first_chunk::<2>()?;
-        let [v2, v3] = *row1.first_chunk::<2>()?;
-        let [v4, v5] = *row2.first_chunk::<2>()?;
-        let [v6, v7] = *row3.first_chunk::<2>()?;
-        Some([v0, v1, v2, v3, v4, v5, v6, v7])
+        let [v0, v1] = row0.first_chunk::<2>()?;
+        let [v2, v3] = row1.first_chunk::<2>()?;
+        let [v4, v5] = row2.first_chunk::<2>()?;
+        let [v6, v7] = row3.first_chunk::<2>()?;
+        Some([f(v0), f(v1), f(v2), f(v3), f(v4), f(v5), f(v6), f(v7)])
     }
 
     /// Clamps a signed voxel coordinate into the grid.

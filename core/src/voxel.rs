@@ -79,7 +79,8 @@ pub trait Voxel: Copy {
 
     /// `data` itself where `Self` is [`ExtinctionF32`], `None` for every other format: lets
     /// the eight-ray lane kernel (feature `avx2`) read such a voxel as one 16-byte vector (an
-    /// `ExtinctionF32` is `repr(C)`: its four `f32` in order). Not meant to be overridden.
+    /// `ExtinctionF32` is `repr(C)`: its four `f32` in order), and `Trilinear` read the taps
+    /// of `ExtinctionWeighted` in place. Not meant to be overridden.
     #[doc(hidden)]
     #[inline(always)]
     fn as_extinction_f32(data: &[Self]) -> Option<&[ExtinctionF32]> {
@@ -361,6 +362,15 @@ impl Voxel for ExtinctionF32 {
             return Err(VoxelFault::ColorExceedsOpacity);
         }
         Ok(())
+    }
+}
+
+impl ExtinctionF32 {
+    /// `[C^τ r, g, b, τ]`, read in place (the four lanes of the extinction kernels).
+    #[inline(always)]
+    pub(crate) fn lanes(&self) -> [f32; 4] {
+        let [r, g, b] = self.c_tau;
+        [r, g, b, self.tau]
     }
 }
 

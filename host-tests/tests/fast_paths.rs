@@ -157,6 +157,65 @@ fn gather_fast_path_is_bit_identical_to_the_clamped_path() {
     );
 }
 
+/// `ExtinctionWeighted` over `ExtinctionF32` reads its taps in place (`Trilinear`'s own path
+/// for it, in one sample and in the four-sample lanes): one sample against the public plain
+/// kernels (the clamped gather, the generic weighted sum, the mode's `finish`), bit for bit,
+/// at positions inside, on and beyond the edges; then `cast` against one sample at a time.
+#[test]
+fn extinction_f32_taps_read_in_place_are_bit_identical_to_the_plain_kernels() {
+    let mut rng = Rng(0x2545_F491_4F6C_DD1D);
+    let mut interior = 0usize;
+    for case in 0..cases() {
+        let dims = random_dims(&mut rng);
+        let ext = extinction_f32(&random_u8_volume(&mut rng, dims), [1.0, 0.5][case % 2]);
+        let vol = Volume::new(&ext, dims).unwrap();
+        let d = [0.5, 0.3, 1.0, 2.5][case % 4];
+        let step = Step::new(d).unwrap();
+        let m = RayMarcher::new(
+            vol,
+            ExtinctionWeighted,
+            Trilinear::new(),
+            FrontToBack::new(),
+            step,
+        )
+        .unwrap();
+        for _ in 0..32 {
+            let pos = dims.map(|n| rng.coord(n));
+            let (taps, f) = Trilinear::<volsample::WeightedSum>::gather_clamped(&vol, pos);
+            let mode = ExtinctionWeighted;
+            let plain =
+                Mode::<ExtinctionF32>::weighted::<f32, 8>(&mode, &taps, &trilinear_weights(f));
+            let want = Mode::<ExtinctionF32>::finish(&mode, plain, d);
+            let got = m.sample(pos);
+            assert!(
+                same_sample(&got, &want),
+                "{pos:?} in {dims:?}: in place {got:?} vs plain {want:?}"
+            );
+            if pos
+                .iter()
+                .zip(dims)
+                .all(|(&p, n)| p >= 0.0 && p < (n - 1) as f32)
+            {
+                interior += 1;
+            }
+        }
+        let rays: Vec<Ray> = (0..8).map(|_| random_ray(&mut rng, dims)).collect();
+        let (never, none) = (|_: f32| false, |_: [f32; 3]| false);
+        check_sample_lanes(
+            &m,
+            &rays,
+            never,
+            none,
+            Sample::TRANSPARENT,
+            "Extinction f32",
+        );
+    }
+    assert!(
+        interior > cases(),
+        "too few interior cells exercised: {interior}"
+    );
+}
+
 /// `weighted8_f32` against `weighted::<f32, 8>` for one mode and random taps.
 fn check_weighted8<V: Voxel + std::fmt::Debug, M: Mode<V>>(
     mode: &M,
