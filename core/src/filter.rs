@@ -14,9 +14,7 @@
 //! opaque region, is reproduced exactly.
 
 use crate::lanes::{pack, unpack, F32x4};
-use crate::mode::{
-    lane_taps, linear_weighted8_f32, pack_interp, tap_columns, weighted_columns_x4, Mode,
-};
+use crate::mode::{lane_taps, linear_weighted8_f32, pack_interp, tap_columns, Mode};
 use crate::num::Num;
 use crate::sample::Interp;
 use crate::volume::Volume;
@@ -315,12 +313,13 @@ impl<O: TrilinearOrder> Trilinear<O> {
     }
 
     /// `vol` as [`ExtinctionF32`] voxels where `M` is `ExtinctionWeighted` in the weighted-sum
-    /// order over them (the case of [`extinction_f32`](Self::extinction_f32)), else `None`.
+    /// order over them and the build reads such taps in place ([`EXTINCTION_F32_IN_PLACE`];
+    /// the case of [`extinction_f32`](Self::extinction_f32)), else `None`.
     #[inline(always)]
     fn as_extinction_f32<'a, V: Voxel, M: Mode<V>>(
         vol: &Volume<'a, V>,
     ) -> Option<Volume<'a, ExtinctionF32>> {
-        if M::EXTINCTION && O::WEIGHTED_SUM {
+        if EXTINCTION_F32_IN_PLACE && M::EXTINCTION && O::WEIGHTED_SUM {
             V::as_extinction_f32(vol.data()).map(|d| vol.with_data(d))
         } else {
             None
@@ -378,25 +377,8 @@ impl<O: TrilinearOrder> Filter for Trilinear<O> {
     ) -> Interp<F32x4> {
         let [p0, p1, p2, p3] = pos;
         if let Some(vol) = Self::as_extinction_f32::<V, M>(vol) {
-            let g = |p| Self::gather_lanes(&vol, p);
-            if EXTINCTION_F32_PER_SAMPLE {
-                let e = |p| {
-                    let (u, f) = g(p);
-                    linear_weighted8_f32(&u, &trilinear_weights(f))
-                };
-                return pack_interp([e(p0), e(p1), e(p2), e(p3)]);
-            }
-            let (t0, f0) = g(p0);
-            let (t1, f1) = g(p1);
-            let (t2, f2) = g(p2);
-            let (t3, f3) = g(p3);
-            let w = trilinear_weights(pack([f0, f1, f2, f3]));
-            return weighted_columns_x4(
-                &tap_columns([t0, t1, t2, t3]),
-                &w,
-                |[r, g, b, t]: [f32; 4]| ([r, g, b], t),
-                false,
-            );
+            let e = |p| Self::extinction_f32(&vol, p);
+            return pack_interp([e(p0), e(p1), e(p2), e(p3)]);
         }
         let (t0, f0) = Self::gather(vol, p0);
         let (t1, f1) = Self::gather(vol, p1);
@@ -406,16 +388,18 @@ impl<O: TrilinearOrder> Filter for Trilinear<O> {
     }
 }
 
-/// How [`Trilinear`]'s four-sample lanes compute `ExtinctionWeighted` over
-/// [`ExtinctionF32`] (both read the taps in place, both bit-identical to one sample at a time):
-/// per sample with the four channels in lanes (`true`), or with the four samples in lanes
-/// after a transposition of the taps, as for the other modes (`false`).
+/// Whether [`Trilinear`] reads the taps of `ExtinctionWeighted` over [`ExtinctionF32`] in
+/// place and sums each sample with its four channels in lanes (`extinction_f32`, also in
+/// `cast`'s four-sample lanes), or copies them as for every other mode and format (with the
+/// four samples in lanes after a transposition of the taps). Both are bit-identical to one
+/// sample at a time.
 ///
-/// Per sample in builds for CPUs with AVX: there the transposition left the taps on the stack
-/// in pieces of 4, 8 and 12 bytes, and the `ray_march` bench's 16-byte `cast` took 1.86 of
-/// `OpacityWeighted`'s time (1.23 per sample). Elsewhere the transposition is faster
-/// (baseline x86-64: 1.08 of `OpacityWeighted`'s time, 1.16 per sample).
-const EXTINCTION_F32_PER_SAMPLE: bool = cfg!(target_feature = "avx");
+/// In place in builds for CPUs with AVX: there the copies and the transposition left the
+/// taps on the stack in pieces of 4, 8 and 12 bytes, and the `ray_march` bench's 16-byte
+/// `cast` took 1.86 of `OpacityWeighted`'s time (1.20–1.23 in place). In the baseline x86-64
+/// build the copies are faster: 1.08 of `OpacityWeighted`'s `cast`, and the four-ray packets
+/// 0.84 (in place with the transposition, 1.10 and 1.03).
+const EXTINCTION_F32_IN_PLACE: bool = cfg!(target_feature = "avx");
 
 /// Triquadratic B-spline approximation (27 taps), the filter Kraus pairs with the `a = ⅕`
 /// downsampling mask. Not interpolating: it smooths even at voxel centres.

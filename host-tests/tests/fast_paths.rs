@@ -157,10 +157,11 @@ fn gather_fast_path_is_bit_identical_to_the_clamped_path() {
     );
 }
 
-/// `ExtinctionWeighted` over `ExtinctionF32` reads its taps in place (`Trilinear`'s own path
-/// for it, in one sample and in the four-sample lanes): one sample against the public plain
-/// kernels (the clamped gather, the generic weighted sum, the mode's `finish`), bit for bit,
-/// at positions inside, on and beyond the edges; then `cast` against one sample at a time.
+/// `ExtinctionWeighted` over `ExtinctionF32` in builds for AVX CPUs reads its taps in place
+/// (`Trilinear`'s own path for it, in one sample and in the four-sample lanes; elsewhere it
+/// copies them as every other mode does): one sample against the public plain kernels (the
+/// clamped gather, the generic weighted sum, the mode's `finish`), bit for bit, at positions
+/// inside, on and beyond the edges; then `cast` against one sample at a time.
 #[test]
 fn extinction_f32_taps_read_in_place_are_bit_identical_to_the_plain_kernels() {
     let mut rng = Rng(0x2545_F491_4F6C_DD1D);
