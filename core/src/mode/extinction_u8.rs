@@ -110,8 +110,8 @@ impl TauTable {
 /// corrects opacity, so the volume's own reference distance is not used.
 ///
 /// It saves memory (4 bytes a voxel against 16), and time only in some builds: the
-/// `ray_march` bench (2026-11-29, same-load rounds) put it at 0.53× the time of the 16-byte
-/// form in `cast` and 0.96× in the eight-ray packets of the AVX2 build, 1.06× in `cast` and
+/// `ray_march` bench (2026-11-29, same-load rounds) put it at 0.78× the time of the 16-byte
+/// form in `cast` and 0.93× in the eight-ray packets of the AVX2 build, 1.06× in `cast` and
 /// 1.30× in the four-ray packets of the baseline x86-64 build (the per-tap conversion costs
 /// about what the narrower loads save; see the README's performance section).
 ///
