@@ -55,7 +55,9 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     #[doc(hidden)]
     const SEPARATE: bool = false;
     /// `true` for [`ExtinctionWeighted`], which the eight-ray lane kernel computes over
-    /// [`ExtinctionF32`](crate::voxel::ExtinctionF32) voxels.
+    /// [`ExtinctionF32`](crate::voxel::ExtinctionF32) voxels, and `Trilinear` too in builds
+    /// for AVX CPUs, reading the taps in place: both rely on its sums being the plain
+    /// weighted sums of each tap's `[C^τ, τ]` (`linear_weighted8_f32`).
     #[doc(hidden)]
     const EXTINCTION: bool = false;
 
