@@ -100,6 +100,10 @@ pub enum Error {
     /// An occupancy grid's brick size exponent exceeds
     /// [`MAX_BRICK_LOG2`](crate::skip::MAX_BRICK_LOG2).
     InvalidBrickSize,
+    /// An instruction-set name that is not one of [`Isa::NAMES`](crate::Isa::NAMES).
+    UnknownIsa,
+    /// An instruction set this CPU (or target) does not have.
+    IsaUnavailable,
 }
 
 impl fmt::Display for Error {
@@ -123,6 +127,8 @@ impl fmt::Display for Error {
             }
             Error::InvalidStep => f.write_str("the sampling step must be finite and positive"),
             Error::InvalidPhase => f.write_str("the start phase must lie in [0, 1)"),
+            Error::UnknownIsa => f.write_str("unknown instruction set (known: baseline, avx2)"),
+            Error::IsaUnavailable => f.write_str("this CPU does not have that instruction set"),
             Error::InvalidThreshold => {
                 f.write_str("the early-termination threshold must lie in (0, 1]")
             }

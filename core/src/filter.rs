@@ -45,7 +45,7 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
     const PACKETS: bool = true;
 
     /// `true` for [`Trilinear`]`<`[`WeightedSum`]`>`, the filter of the eight-ray lane kernel
-    /// of [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (feature `avx2`).
+    /// of [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (the AVX2 instance).
     #[doc(hidden)]
     const TRILINEAR_WEIGHTED_SUM: bool = false;
 

@@ -13,11 +13,14 @@
 //!   termination) or back to front, over a background.
 //! * **Along which rays** — [`ray`] clipping and cameras, [`render`] for whole images, one
 //!   ray at a time (four consecutive samples in [`lanes`] on SIMD targets) or four rays in
-//!   lanes ([`RayMarcher::cast_rays`]; eight in AVX2 lanes with the feature `avx2` in a build
-//!   for an AVX2 CPU, see [`render::AVX2_PACKETS`]); bit-identical either way.
+//!   lanes ([`RayMarcher::cast_rays`]; eight in AVX2 lanes on a CPU with AVX2); bit-identical
+//!   either way.
 //! * **In fixed point** — [`fixed_point`]: the bit-exact integer kernels of firmware and
-//!   hardware (the integer `OpacityWeighted` trilinear kernel in SSE2 with the feature `sse2`
-//!   on x86-64, see [`fixed_point::SSE2_KERNEL`]; bit-identical).
+//!   hardware (the integer `OpacityWeighted` trilinear kernel in SSE2 on x86-64;
+//!   bit-identical).
+//! * **In which instruction set** — [`arch`]: on x86-64 the AVX2 + FMA instances are in
+//!   every build and run where the CPU has them ([`Isa::detect`], at a marcher's
+//!   construction; `with_isa` forces one); elsewhere only the portable code is linked.
 //!
 //! Every choice is a type, so a pipeline contains only the stages its scene uses. Inputs are
 //! validated once, at construction, into [`Error`] values; the kernels cannot panic, allocate
@@ -37,40 +40,52 @@
 //! # Ok::<(), volsample::Error>(())
 //! ```
 #![no_std]
-// No `unsafe` anywhere, except in the AVX2 kernel (`lanes8`: its two entries, float and
-// integer, two bit casts and the voxel loads after their bounds tests) in builds with the opt-in feature `avx2`, and the
-// entry of the SSE2 integer kernel (`fixed_point::sse2`) with the feature `sse2`, where the
-// crate denies it everywhere else.
-#![cfg_attr(not(any(feature = "avx2", feature = "sse2")), forbid(unsafe_code))]
-#![cfg_attr(any(feature = "avx2", feature = "sse2"), deny(unsafe_code))]
+// `unsafe` only in `arch` (the AVX2 and SSE2 entries, loads and bit casts, each with its
+// proof); every other module forbids it.
+#![deny(unsafe_code)]
 #![doc(test(attr(deny(warnings))))]
 
+#[allow(unsafe_code)]
+#[deny(clippy::undocumented_unsafe_blocks)]
+pub mod arch;
+#[forbid(unsafe_code)]
 pub mod classify;
+#[forbid(unsafe_code)]
 pub mod composite;
+#[forbid(unsafe_code)]
 pub mod downsample;
+#[forbid(unsafe_code)]
 pub mod error;
+#[forbid(unsafe_code)]
 pub mod filter;
+#[forbid(unsafe_code)]
 pub mod fixed_point;
+#[forbid(unsafe_code)]
 pub mod lanes;
-#[cfg(all(
-    feature = "avx2",
-    target_arch = "x86_64",
-    target_feature = "avx2",
-    target_feature = "fma"
-))]
-mod lanes8;
+#[forbid(unsafe_code)]
 pub mod mode;
+#[forbid(unsafe_code)]
 pub mod num;
+#[forbid(unsafe_code)]
 pub mod opacity;
+#[forbid(unsafe_code)]
 pub mod ray;
+#[forbid(unsafe_code)]
 pub mod render;
+#[forbid(unsafe_code)]
 pub mod sample;
+#[forbid(unsafe_code)]
 pub mod shade;
+#[forbid(unsafe_code)]
 pub mod skip;
+#[forbid(unsafe_code)]
 pub mod transfer;
+#[forbid(unsafe_code)]
 pub mod volume;
+#[forbid(unsafe_code)]
 pub mod voxel;
 
+pub use arch::Isa;
 pub use composite::{BackToFront, FrontToBack, Never, Threshold};
 pub use error::Error;
 pub use filter::{Filter, Nearest, Tree, Trilinear, TriquadraticBSpline, WeightedSum};

@@ -17,6 +17,7 @@
 
 use core::marker::PhantomData;
 
+use crate::arch::Isa;
 use crate::composite::{back_to_front, front_to_back, over, Order, Termination};
 use crate::error::Error;
 use crate::filter::Filter;
@@ -110,6 +111,7 @@ pub struct RayMarcher<'v, V, M, F, O, S = NoSkip> {
     background: Sample,
     correction: Option<Corrected>,
     skip: S,
+    isa: Isa,
     filter: PhantomData<F>,
 }
 
@@ -152,6 +154,7 @@ where
             background: Sample::TRANSPARENT,
             correction,
             skip: NoSkip,
+            isa: Isa::detect(),
             filter: PhantomData,
         })
     }
@@ -184,6 +187,7 @@ where
             background: self.background,
             correction: self.correction,
             skip: grid,
+            isa: self.isa,
             filter: PhantomData,
         })
     }
@@ -214,6 +218,19 @@ where
         }
         self.background = bg;
         Ok(self)
+    }
+
+    /// Runs the kernels in the instruction set `isa` instead of the best one this CPU has
+    /// (what [`new`](RayMarcher::new) chose, [`Isa::detect`]): to compare instances, or to
+    /// pin one. Every instance gives the same results, bit for bit.
+    pub fn with_isa(mut self, isa: Isa) -> Self {
+        self.isa = isa;
+        self
+    }
+
+    /// The instruction set the kernels run in.
+    pub fn isa(&self) -> Isa {
+        self.isa
     }
 
     /// The volume.
@@ -266,8 +283,14 @@ where
     /// [`cast`](Self::cast), also returning the number of samples taken (fewer than the
     /// ray's sample count when early termination stops it). The count costs nothing when it
     /// is not used.
-    #[inline(always)]
+    #[inline]
     pub fn cast_counted(&self, ray: &Ray) -> (Sample, u32) {
+        self.isa.run(|| self.cast_counted_here(ray))
+    }
+
+    /// [`cast_counted`](Self::cast_counted) in the instruction set of the caller.
+    #[inline(always)]
+    fn cast_counted_here(&self, ray: &Ray) -> (Sample, u32) {
         let (acc, n) = match &self.correction {
             Some(c) => self.march(ray, c),
             None => self.march(ray, &Uncorrected),
@@ -388,8 +411,14 @@ where
     /// ```
     #[inline(never)]
     pub fn cast4(&self, rays: &[Ray; 4]) -> [(Sample, u32); 4] {
+        self.isa.run(|| self.cast4_here(rays))
+    }
+
+    /// [`cast4`](Self::cast4) in the instruction set of the caller.
+    #[inline(always)]
+    fn cast4_here(&self, rays: &[Ray; 4]) -> [(Sample, u32); 4] {
         if !O::FRONT_TO_BACK || !F::PACKETS {
-            return rays.each_ref().map(|r| self.cast_counted(r));
+            return rays.each_ref().map(|r| self.cast_counted_here(r));
         }
         let (acc, n) = match &self.correction {
             Some(c) => self.march4(rays, c),
@@ -403,68 +432,68 @@ where
     }
 
     /// Casts every ray of `rays` into `out` (`out[i]` is `cast(&rays[i])`, bit for bit), four
-    /// at a time with [`cast4`](Self::cast4) — or eight at a time in AVX2 lanes where
-    /// [`AVX2_PACKETS`] (crate feature `avx2`, a build for an AVX2 CPU) and the marcher is
+    /// at a time with [`cast4`](Self::cast4) — or eight at a time in AVX2 lanes where the
+    /// marcher's [`Isa`] is AVX2 (the default on a CPU that has it) and the marcher is
     /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8` over `StraightU8`, or
     /// `ExtinctionWeighted` over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to back
-    /// without correction or skipping: in the `ray_march` bench (2-core AMD EPYC, coherent
-    /// rays) that took 0.20 of `cast`'s time for `OpacityWeighted`.
+    /// without correction or skipping ([`packet_width`](Self::packet_width) is then 8): in
+    /// the `ray_march` bench that takes about a quarter to a third of `cast`'s time for
+    /// `OpacityWeighted` (the README's performance section has the figures).
     ///
     /// Packets overlap the four rays' chains of dependent operations; so does
     /// [`cast`](Self::cast) with four consecutive samples of one ray in lanes, which wastes no
     /// lane on rays of different lengths. Since `cast` does that, packets no longer pay in the
-    /// `ray_march` bench (coherent rays through 256³, 2-core Xeon): `OpacityWeighted` over
-    /// RGBA8 took 0.99–1.16 of `cast`'s time in five runs, and a 64×64 perspective view of 32³
-    /// 35.3 vs 33.5 ns/sample; so [`render_into`](Self::render_into) does not use them. They
-    /// may still pay where `cast` runs one sample at a time (the opacity-based trilinear
-    /// kernels over [`Voxel::F32_CHANNELS`] formats), and the eight-ray AVX2 packets do pay.
-    /// Measure on your rays.
+    /// `ray_march` bench (coherent rays through 256³), so [`render_into`](Self::render_into)
+    /// does not use them. They may still pay where `cast` runs one sample at a time (the
+    /// opacity-based trilinear kernels over [`Voxel::F32_CHANNELS`] formats), and the
+    /// eight-ray AVX2 packets do pay. Measure on your rays.
     ///
     /// # Errors
     /// [`Error::ImageSizeMismatch`] unless `out.len() == rays.len()`.
     pub fn cast_rays(&self, rays: &[Ray], out: &mut [Sample]) -> Result<(), Error> {
-        if out.len() != rays.len() {
-            return Err(Error::ImageSizeMismatch {
-                expected: rays.len(),
-                actual: out.len(),
-            });
-        }
+        check_len(rays.len(), out.len())?;
+        self.isa.run(|| self.cast_rays_here(rays, out));
+        Ok(())
+    }
+
+    /// [`cast_rays`](Self::cast_rays) of as many rays as outputs, in the instruction set of
+    /// the caller.
+    #[inline(always)]
+    fn cast_rays_here(&self, rays: &[Ray], out: &mut [Sample]) {
         let (rays, out) = self.cast_rays8(rays, out);
         let mut r4 = rays.chunks_exact(4);
         let mut o4 = out.chunks_exact_mut(4);
         for (r, o) in (&mut r4).zip(&mut o4) {
             if let (Ok(r), Ok(o)) = (<&[Ray; 4]>::try_from(r), <&mut [Sample; 4]>::try_from(o)) {
-                *o = self.cast4(r).map(|x| x.0);
+                *o = self.cast4_here(r).map(|x| x.0);
             }
         }
         for (r, o) in r4.remainder().iter().zip(o4.into_remainder()) {
-            *o = self.cast(r);
+            *o = self.cast_counted_here(r).0;
         }
-        Ok(())
     }
 
-    /// Where the eight-ray AVX2 kernel applies ([`AVX2_PACKETS`] and an `OpacityWeighted`,
+    /// Where the eight-ray AVX2 kernel applies (an AVX2 [`Isa`] and an `OpacityWeighted`,
     /// `Separate` or `ExtinctionWeightedU8` marcher over straight RGBA8 or an
     /// `ExtinctionWeighted` one over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to back
     /// without correction or skipping), casts the leading multiple of eight rays with it and
     /// returns the rest; otherwise returns all of them.
-    #[cfg(all(
-        feature = "avx2",
-        target_arch = "x86_64",
-        target_feature = "avx2",
-        target_feature = "fma"
-    ))]
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
     fn cast_rays8<'r, 'o>(
         &self,
         rays: &'r [Ray],
         out: &'o mut [Sample],
     ) -> (&'r [Ray], &'o mut [Sample]) {
-        use crate::lanes8::{
+        use crate::arch::avx2::{
             in_packets, march8, EXTINCTION_F32, EXTINCTION_U8, OPACITY_WEIGHTED, SEPARATE,
         };
         let separate = <M as Mode<V>>::SEPARATE;
         let extinction = <M as Mode<V>>::EXTINCTION;
         let taus = self.mode.tau_table().map(|t| t.taus());
+        let Some(cpu) = self.isa.avx2_token() else {
+            return (rays, out);
+        };
         if !self.eight_ray_packets() {
             return (rays, out);
         }
@@ -473,29 +502,26 @@ where
             let ranges = r.each_ref().map(|r| self.samples(r));
             let (vol, d) = (&self.volume, self.step.d);
             let acc = match taus {
-                Some(t) => march8::<V, EXTINCTION_U8>(vol, r, &ranges, d, a_stop, t),
+                Some(t) => march8::<V, EXTINCTION_U8>(cpu, vol, r, &ranges, d, a_stop, t),
                 None if extinction => {
-                    march8::<V, EXTINCTION_F32>(vol, r, &ranges, d, a_stop, &[0.0; 256])
+                    march8::<V, EXTINCTION_F32>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256])
                 }
-                None if separate => march8::<V, SEPARATE>(vol, r, &ranges, d, a_stop, &[0.0; 256]),
-                None => march8::<V, OPACITY_WEIGHTED>(vol, r, &ranges, d, a_stop, &[0.0; 256]),
+                None if separate => {
+                    march8::<V, SEPARATE>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256])
+                }
+                None => march8::<V, OPACITY_WEIGHTED>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256]),
             };
             acc.map(|a| over(a, self.background))
         })
     }
 
-    /// Whether the eight-ray AVX2 kernel applies to this marcher ([`AVX2_PACKETS`] and an
+    /// Whether the eight-ray AVX2 kernel applies to this marcher (an AVX2 [`Isa`] and an
     /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8` marcher over straight RGBA8 or
     /// an `ExtinctionWeighted` one over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to
     /// back without correction or skipping, over a volume it can index).
     #[inline]
     fn eight_ray_packets(&self) -> bool {
-        #[cfg(all(
-            feature = "avx2",
-            target_arch = "x86_64",
-            target_feature = "avx2",
-            target_feature = "fma"
-        ))]
+        #[cfg(target_arch = "x86_64")]
         {
             let rgba8 = V::STRAIGHT_RGBA8
                 && (<M as Mode<V>>::OPACITY_WEIGHTED
@@ -508,26 +534,17 @@ where
                 && O::FRONT_TO_BACK
                 && !S::SKIPS
                 && self.correction.is_none()
-                && crate::lanes8::fits(&self.volume)
+                && self.isa.avx2_token().is_some()
+                && crate::arch::avx2::fits(&self.volume)
         }
-        #[cfg(not(all(
-            feature = "avx2",
-            target_arch = "x86_64",
-            target_feature = "avx2",
-            target_feature = "fma"
-        )))]
+        #[cfg(not(target_arch = "x86_64"))]
         {
             false
         }
     }
 
     /// Without the eight-ray kernel: all of `rays` go to the four-ray packets.
-    #[cfg(not(all(
-        feature = "avx2",
-        target_arch = "x86_64",
-        target_feature = "avx2",
-        target_feature = "fma"
-    )))]
+    #[cfg(not(target_arch = "x86_64"))]
     #[inline(always)]
     fn cast_rays8<'r, 'o>(
         &self,
@@ -626,6 +643,20 @@ where
         (samples, count)
     }
 
+    /// How many rays [`cast_rays`](Self::cast_rays) marches at once in lanes: 8 where this
+    /// marcher runs the eight-ray AVX2 kernel (its [`Isa`] is AVX2 and its mode, voxel
+    /// format, filter, order and stages are those the kernel computes), else 4 (or 1 where
+    /// its filter or order casts one ray at a time).
+    pub fn packet_width(&self) -> usize {
+        if self.eight_ray_packets() {
+            8
+        } else if O::FRONT_TO_BACK && F::PACKETS {
+            4
+        } else {
+            1
+        }
+    }
+
     /// The number of samples a ray takes without early termination, and the distance `t` of
     /// the first one.
     pub fn sample_range(&self, ray: &Ray) -> (f32, u32) {
@@ -634,7 +665,8 @@ where
 
     /// Renders a `width × height` image (row-major, row 0 at the top) into `image`, one ray at
     /// a time — or, where the eight-ray AVX2 kernel of [`cast_rays`](Self::cast_rays) applies
-    /// ([`AVX2_PACKETS`] and such a marcher), eight pixels of a row at a time with it; every
+    /// ([`packet_width`](Self::packet_width) 8), eight pixels of a row at a time with it, for
+    /// orthographic and perspective cameras alike; each in the marcher's [`Isa`]; every
     /// pixel is `cast` of its ray, bit for bit, either way. (The four-ray packets of other
     /// builds did not pay here, see `cast_rays`.)
     ///
@@ -648,30 +680,20 @@ where
         height: usize,
         image: &mut [Sample],
     ) -> Result<(), Error> {
-        if !self.eight_ray_packets() {
-            return trace_image(camera, width, height, image, |ray| self.cast(ray));
-        }
-        trace_rows8(camera, width, height, image, |rays, px| {
-            self.cast_rays(rays, px)
+        self.isa.run(|| {
+            if !self.eight_ray_packets() {
+                return trace_image(camera, width, height, image, |ray| {
+                    self.cast_counted_here(ray).0
+                });
+            }
+            trace_rows8(camera, width, height, image, |rays, px| {
+                check_len(rays.len(), px.len())?;
+                self.cast_rays_here(rays, px);
+                Ok(())
+            })
         })
     }
 }
-
-/// Whether [`RayMarcher::cast_rays`] marches eight rays at once in AVX2 lanes (the module
-/// `lanes8`, bit-identical to [`RayMarcher::cast`]) for `OpacityWeighted`, `Separate` and
-/// `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of
-/// [`StraightU8`](crate::StraightU8) voxels, and `ExtinctionWeighted` of
-/// [`ExtinctionF32`](crate::ExtinctionF32) ones, front to back without opacity correction or
-/// skipping: `true` when the crate feature `avx2` is on
-/// **and** the build targets a CPU with AVX2 and FMA (`-C target-feature=+avx2,+fma`, or
-/// `-C target-cpu=native` on such a CPU). The rays beyond the last multiple of eight, and
-/// every other configuration, take the four-ray packets.
-pub const AVX2_PACKETS: bool = cfg!(all(
-    feature = "avx2",
-    target_arch = "x86_64",
-    target_feature = "avx2",
-    target_feature = "fma"
-));
 
 /// Whether [`RayMarcher::cast`] marches front-to-back rays four consecutive samples at a time
 /// in [`F32x4`] lanes (bit-identical to one at a time, `tests/fast_paths.rs`): on targets with
@@ -694,6 +716,15 @@ const SAMPLE_LANES: bool = cfg!(any(
 /// f32 extinction 0.95, `OpacityWeighted` over `StraightF32` 1.13.
 const fn sample_lanes<V: Voxel, M: Mode<V>, F: Filter>() -> bool {
     SAMPLE_LANES && F::PACKETS && !(V::F32_CHANNELS && M::OPACITY_BASED && F::TAPS == 8)
+}
+
+/// [`Error::ImageSizeMismatch`] unless `actual == expected`.
+pub(crate) fn check_len(expected: usize, actual: usize) -> Result<(), Error> {
+    if actual == expected {
+        Ok(())
+    } else {
+        Err(Error::ImageSizeMismatch { expected, actual })
+    }
 }
 
 /// Checks an image buffer: [`Error::EmptyImage`] for a zero width or height,

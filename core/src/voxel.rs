@@ -54,7 +54,7 @@ pub trait Voxel: Copy {
 
     /// `true` for straight RGBA bytes read as `n/255` ([`StraightU8`]), whose
     /// [`rgba8`](Self::rgba8) is the voxel itself: the eight-ray lane kernel of
-    /// [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (feature `avx2`) reads such
+    /// [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (the AVX2 instance) reads such
     /// voxels as 32-bit words. A format that sets it must read as
     /// `StraightVoxel::straight` = `rgba8` bytes over 255, correctly rounded. `false` by
     /// default.
@@ -68,7 +68,7 @@ pub trait Voxel: Copy {
     }
 
     /// `data` itself where `Self` is [`StraightU8`], `None` for every other format: lets the
-    /// eight-ray lane kernel (feature `avx2`) read two neighbouring voxels as one 8-byte word
+    /// eight-ray lane kernel (the AVX2 instance) read two neighbouring voxels as one 8-byte word
     /// (a `StraightU8` is its four bytes in memory). Not meant to be overridden.
     #[doc(hidden)]
     #[inline(always)]
@@ -78,7 +78,7 @@ pub trait Voxel: Copy {
     }
 
     /// `data` itself where `Self` is [`ExtinctionF32`], `None` for every other format: lets
-    /// the eight-ray lane kernel (feature `avx2`) read such a voxel as one 16-byte vector (an
+    /// the eight-ray lane kernel (the AVX2 instance) read such a voxel as one 16-byte vector (an
     /// `ExtinctionF32` is `repr(C)`: its four `f32` in order), and `Trilinear` read the taps
     /// of `ExtinctionWeighted` in place. Not meant to be overridden.
     #[doc(hidden)]

@@ -130,8 +130,11 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         FrontToBack::new(),
         step,
     )
-    .unwrap();
-    let sep = RayMarcher::new(vol, Separate, Trilinear::new(), FrontToBack::new(), step).unwrap();
+    .unwrap()
+    .with_isa(isa());
+    let sep = RayMarcher::new(vol, Separate, Trilinear::new(), FrontToBack::new(), step)
+        .unwrap()
+        .with_isa(isa());
     let int_ow = IntRayMarcher::<_, _, _, 8>::new(
         vol,
         OpacityWeighted,
@@ -139,7 +142,8 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         IntStop::NEVER,
         step,
     )
-    .unwrap();
+    .unwrap()
+    .with_isa(isa());
     let ext: Vec<ExtinctionF32> = v256
         .iter()
         .map(|v| {
@@ -155,7 +159,8 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         FrontToBack::new(),
         step,
     )
-    .unwrap();
+    .unwrap()
+    .with_isa(isa());
     let table = TauTable::new(D).unwrap();
     let em8 = RayMarcher::new(
         vol,
@@ -164,7 +169,8 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         FrontToBack::new(),
         step,
     )
-    .unwrap();
+    .unwrap()
+    .with_isa(isa());
     let mut grid = vec![0u8; Occupancy::buffer_len([256; 3], 3)];
     let skip = ow.with_skipping(&mut grid, 3).unwrap();
     let n: u64 = rays.iter().map(|r| u64::from(ow.sample_range(r).1)).sum();
@@ -272,12 +278,9 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
     let ratio = |p: &[f64], base: &[f64]| median(p.iter().zip(base).map(|(a, b)| a / b).collect());
     println!("ray_march/interleaved: {rounds} rounds, 256³, {n} samples per pass");
     println!(
-        "  integer OpacityWeighted trilinear kernel: {}",
-        if volsample::fixed_point::SSE2_KERNEL {
-            "SSE2 (feature sse2)"
-        } else {
-            "portable"
-        }
+        "  instruction set: {} (of {:?}; VOLSAMPLE_ISA chooses)",
+        ow.isa(),
+        volsample::Isa::available()
     );
     for (k, ((name, _), p)) in passes.iter().zip(&per).enumerate() {
         let packed = if (6..11).contains(&k) {
@@ -318,6 +321,11 @@ fn all_channels_int(p: IntSample) -> u32 {
     u32::from(p.a()) + u32::from(r) + u32::from(g) + u32::from(b)
 }
 
+/// The instruction set of every marcher here: `VOLSAMPLE_ISA`, else the best this CPU has.
+fn isa() -> volsample::Isa {
+    volsample_host::isa::from_env().unwrap()
+}
+
 fn quick() -> bool {
     std::env::var_os("VOLSAMPLE_BENCH_QUICK").is_some()
 }
@@ -337,7 +345,8 @@ fn bench(c: &mut Criterion) {
         FrontToBack::new(),
         step,
     )
-    .unwrap();
+    .unwrap()
+    .with_isa(isa());
     let n256: u64 = rays256
         .iter()
         .map(|r| u64::from(ow.sample_range(r).1))
@@ -393,7 +402,9 @@ fn bench(c: &mut Criterion) {
         })
     });
 
-    let sep = RayMarcher::new(vol, Separate, Trilinear::new(), FrontToBack::new(), step).unwrap();
+    let sep = RayMarcher::new(vol, Separate, Trilinear::new(), FrontToBack::new(), step)
+        .unwrap()
+        .with_isa(isa());
     g.bench_function("separate_f32_u8_256", |b| {
         b.iter(|| {
             let mut s = 0.0f32;
@@ -412,7 +423,8 @@ fn bench(c: &mut Criterion) {
         IntStop::NEVER,
         step,
     )
-    .unwrap();
+    .unwrap()
+    .with_isa(isa());
     g.bench_function("ow_int_f8_u8_256", |b| {
         b.iter(|| {
             let mut s = 0u32;
@@ -448,7 +460,8 @@ fn bench(c: &mut Criterion) {
             FrontToBack::new(),
             step,
         )
-        .unwrap();
+        .unwrap()
+        .with_isa(isa());
         g.bench_function("extinction_f32_exact_exp_256", |b| {
             b.iter(|| {
                 let mut s = 0.0f32;
@@ -475,7 +488,8 @@ fn bench(c: &mut Criterion) {
             FrontToBack::new(),
             step,
         )
-        .unwrap();
+        .unwrap()
+        .with_isa(isa());
         g.bench_function("extinction_u8_exact_exp_256", |b| {
             b.iter(|| {
                 let mut s = 0.0f32;
@@ -502,7 +516,8 @@ fn bench(c: &mut Criterion) {
             FrontToBack::new(),
             step,
         )
-        .unwrap();
+        .unwrap()
+        .with_isa(isa());
         let n64: u64 = rays64
             .iter()
             .map(|r| u64::from(ow64.sample_range(r).1))
@@ -550,7 +565,8 @@ fn bench(c: &mut Criterion) {
             FrontToBack::new(),
             step,
         )
-        .unwrap();
+        .unwrap()
+        .with_isa(isa());
         let mut grid = vec![0u8; Occupancy::buffer_len([256; 3], 3)];
         let skip = plain.with_skipping(&mut grid, 3).unwrap();
         g.throughput(Throughput::Elements(n256));
@@ -604,7 +620,8 @@ fn bench(c: &mut Criterion) {
             FrontToBack::new(),
             step,
         )
-        .unwrap();
+        .unwrap()
+        .with_isa(isa());
         let cam = Perspective::new(
             [40.0, 35.0, -30.0],
             [15.5, 15.5, 15.5],

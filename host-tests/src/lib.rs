@@ -8,6 +8,7 @@ pub mod filters;
 pub mod float_checks;
 pub mod images;
 pub mod int_model;
+pub mod isa;
 pub mod kraus;
 pub mod pipeline;
 pub mod plot;

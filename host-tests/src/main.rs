@@ -12,7 +12,13 @@ use volsample_host::scene::{self, generate, load, Scene};
 /// Sample and composite RGBA volumes, and show what each sampling choice costs in accuracy
 /// and in time.
 #[derive(Parser, Debug)]
-#[command(name = "volsample", version, about)]
+#[command(
+    name = "volsample",
+    version,
+    about,
+    after_help = "Environment: VOLSAMPLE_ISA=baseline|avx2 forces the kernels' instruction set \
+                  (default: the best this CPU has; every instance gives the same images)."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -218,6 +224,8 @@ fn user_scene(
 
 fn run() -> Result<(), String> {
     let cli = Cli::parse();
+    // A bad `VOLSAMPLE_ISA` stops here, before any work, with the choices.
+    volsample_host::isa::from_env()?;
     match cli.command.unwrap_or(Command::Report {
         full: false,
         preset: Preset::Default,

@@ -331,8 +331,9 @@ fn float_build<V: Voxel, M: Mode<V> + Copy, F: Filter, T>(
     let image = scene.image;
     if scene.a_stop < 1.0 {
         let order = FrontToBack::with_threshold(scene.a_stop)?;
-        let marcher =
-            RayMarcher::new(vol, mode, filter, order, step)?.with_background(scene.background)?;
+        let marcher = RayMarcher::new(vol, mode, filter, order, step)?
+            .with_background(scene.background)?
+            .with_isa(crate::isa::chosen());
         Ok(body(&FloatFrames {
             marcher,
             cam,
@@ -340,7 +341,8 @@ fn float_build<V: Voxel, M: Mode<V> + Copy, F: Filter, T>(
         }))
     } else {
         let marcher = RayMarcher::new(vol, mode, filter, FrontToBack::new(), step)?
-            .with_background(scene.background)?;
+            .with_background(scene.background)?
+            .with_isa(crate::isa::chosen());
         Ok(body(&FloatFrames {
             marcher,
             cam,
@@ -368,7 +370,8 @@ fn int_build<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter, T
         IntStop::NEVER
     };
     let marcher = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(vol, mode, filter, stop, step)?
-        .with_background(int_background(scene.background)?);
+        .with_background(int_background(scene.background)?)
+        .with_isa(crate::isa::chosen());
     Ok(body(&IntFrames {
         marcher,
         cam: Cam::new(&scene.camera)?,

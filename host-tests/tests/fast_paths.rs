@@ -10,11 +10,12 @@
 //!   [`RayMarcher::sample`], and the packets (four rays in lanes) against single rays;
 //! * the integer sampler's interior path and truncating quantization against clamped taps
 //!   and `floor`;
-//! * the eight-ray AVX2 packets of `cast_rays` (feature `avx2` in a build for an AVX2 CPU,
-//!   `volsample::render::AVX2_PACKETS`) against `cast`, and the byte conversion they use
-//!   against the library's `n/255` for every byte. With `VOLSAMPLE_EXPECT_AVX2=1` the test
-//!   fails unless that kernel is compiled in (so that CI's AVX2 stage cannot pass vacuously);
-//!   coherent packets (rows of parallel rays), where that kernel reuses a cell's channels.
+//! * the packets of `cast_rays` in every instruction set the CPU has ([`Isa::available`]:
+//!   eight rays in AVX2 lanes where it has AVX2) against the baseline `cast`, and the byte
+//!   conversion they use against the library's `n/255` for every byte. On a CPU with AVX2
+//!   and FMA (by `std`'s detection) the tests fail unless the core detects them too, so they
+//!   cannot pass without running the AVX2 instance; coherent packets (rows of parallel rays),
+//!   where that kernel reuses a cell's channels.
 //!
 //! `VOLSAMPLE_FAST_PATH_CASES` sets the number of random cases (default 2000).
 
@@ -27,12 +28,28 @@ use volsample::mode::{ExtinctionWeightedU8, TauTable};
 use volsample::opacity::correct;
 use volsample::skip::Skipping;
 use volsample::voxel::Voxel;
+use volsample::Isa;
 use volsample::{
     AssociatedU8, BackToFront, Camera, ControlPoint, ExtinctionF32, ExtinctionWeighted, Filter,
     FrontToBack, Mode, Nearest, OpacityWeighted, Orthographic, Perspective, PostClassified,
     Preweighted, Ray, RayMarcher, Sample, Separate, Step, StraightF32, StraightU8, Threshold,
     TransferFunction, Trilinear, TriquadraticBSpline, Volume,
 };
+
+/// On an x86-64 CPU with AVX2 and FMA (by `std`'s detection, independent of the core's), the
+/// core must detect them too, so that the AVX2 instances checked below do run there.
+fn assert_best_isa_detected() {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+        assert_eq!(
+            Isa::detect().name(),
+            "avx2",
+            "AVX2 and FMA present but not detected"
+        );
+        assert_eq!(Isa::available().len(), 2);
+    }
+    println!("instances checked: {:?}", Isa::available());
+}
 
 /// xorshift64*: deterministic, seedable.
 struct Rng(u64);
@@ -403,9 +420,30 @@ fn integer_interior_path_and_quantization_are_bit_identical() {
 }
 
 /// Every ray of `rays` through `m` four at a time ([`RayMarcher::cast4`], and
-/// [`RayMarcher::cast_rays`] for the tails) against one at a time; `what` names the case.
+/// [`RayMarcher::cast_rays`] for the tails) against one at a time, in every instruction set
+/// this CPU has against the baseline one ray at a time; `what` names the case.
 fn check_packets<V, M, F, O, S>(m: &RayMarcher<'_, V, M, F, O, S>, rays: &[Ray], what: &str)
 where
+    V: Voxel,
+    M: Mode<V>,
+    F: Filter,
+    O: Order,
+    S: Skipping,
+    for<'a> RayMarcher<'a, V, M, F, O, S>: Copy,
+{
+    let base = m.with_isa(Isa::BASELINE);
+    for isa in Isa::available() {
+        check_packets_in(&m.with_isa(isa), &base, rays, &format!("{what}, {isa}"));
+    }
+}
+
+/// [`check_packets`] of `m` against `base`.
+fn check_packets_in<V, M, F, O, S>(
+    m: &RayMarcher<'_, V, M, F, O, S>,
+    base: &RayMarcher<'_, V, M, F, O, S>,
+    rays: &[Ray],
+    what: &str,
+) where
     V: Voxel,
     M: Mode<V>,
     F: Filter,
@@ -415,7 +453,7 @@ where
     for four in rays.chunks_exact(4) {
         let four: &[Ray; 4] = four.try_into().unwrap();
         for (ray, (got, n)) in four.iter().zip(m.cast4(four)) {
-            let (want, k) = m.cast_counted(ray);
+            let (want, k) = base.cast_counted(ray);
             assert!(
                 same_sample(&got, &want) && n == k,
                 "{what}: {ray:?}: packet {got:?} ({n} samples) vs single {want:?} ({k})"
@@ -427,7 +465,11 @@ where
         let mut out = vec![Sample::TRANSPARENT; len];
         m.cast_rays(&rays[..len], &mut out).unwrap();
         for (ray, got) in rays.iter().zip(&out) {
-            assert!(same_sample(got, &m.cast(ray)), "{what}: cast_rays {ray:?}");
+            assert!(
+                same_sample(got, &base.cast(ray)),
+                "{what}: cast_rays {ray:?}"
+            );
+            assert!(same_sample(got, &m.cast(ray)), "{what}: cast {ray:?}");
         }
     }
 }
@@ -465,8 +507,8 @@ where
     (over(acc, bg), n)
 }
 
-/// `cast_counted` (which marches four consecutive samples of a ray in lanes) against
-/// [`one_at_a_time`]: bit-identical results and counts.
+/// `cast_counted` (which marches four consecutive samples of a ray in lanes), in every
+/// instruction set this CPU has, against [`one_at_a_time`]: bit-identical results and counts.
 fn check_sample_lanes<V, M, F, O, S>(
     m: &RayMarcher<'_, V, M, F, O, S>,
     rays: &[Ray],
@@ -480,14 +522,17 @@ fn check_sample_lanes<V, M, F, O, S>(
     F: Filter,
     O: Order,
     S: Skipping,
+    for<'a> RayMarcher<'a, V, M, F, O, S>: Copy,
 {
     for ray in rays {
-        let (got, n) = m.cast_counted(ray);
         let (want, k) = one_at_a_time(m, ray, &done, &empty, bg);
-        assert!(
-            same_sample(&got, &want) && n == k,
-            "{what}: {ray:?}: lanes {got:?} ({n} samples) vs one at a time {want:?} ({k})"
-        );
+        for isa in Isa::available() {
+            let (got, n) = m.with_isa(isa).cast_counted(ray);
+            assert!(
+                same_sample(&got, &want) && n == k,
+                "{what}, {isa}: {ray:?}: lanes {got:?} ({n} samples) vs one at a time {want:?} ({k})"
+            );
+        }
     }
 }
 
@@ -642,8 +687,9 @@ fn cast_rays_rejects_a_wrong_output_length() {
     );
 }
 
-/// `render_into` (packets of four pixels per row, the rest one by one) against `cast` per
-/// pixel, for widths that leave every remainder, both cameras and both orders.
+/// `render_into` in every instruction set this CPU has (the eight-ray AVX2 packets where it
+/// has AVX2, for parallel and perspective cameras) against the baseline `cast` per pixel, for
+/// widths that leave every remainder, both cameras and both orders.
 #[test]
 fn render_into_is_bit_identical_to_casting_each_pixel() {
     let mut rng = Rng(0x05EE_D0F1_AA6E_5001);
@@ -713,18 +759,35 @@ fn render_into_is_bit_identical_to_casting_each_pixel() {
                 }
             }
         };
-        ftb.render_into(&ortho, w, h, &mut img).unwrap();
-        check(&img, &|r| ftb.cast(r), &ortho);
-        ftb.render_into(&persp, w, h, &mut img).unwrap();
-        check(&img, &|r| ftb.cast(r), &persp);
-        btf.render_into(&persp, w, h, &mut img).unwrap();
-        check(&img, &|r| btf.cast(r), &persp);
-        ow.render_into(&persp, w, h, &mut img).unwrap();
-        check(&img, &|r| ow.cast(r), &persp);
-        sep.render_into(&persp, w, h, &mut img).unwrap();
-        check(&img, &|r| sep.cast(r), &persp);
-        sep.render_into(&ortho, w, h, &mut img).unwrap();
-        check(&img, &|r| sep.cast(r), &ortho);
+        for isa in Isa::available() {
+            let (ftb_i, btf_i, ow_i, sep_i) = (
+                ftb.with_isa(isa),
+                btf.with_isa(isa),
+                ow.with_isa(isa),
+                sep.with_isa(isa),
+            );
+            let b = Isa::BASELINE;
+            let (ftb_b, btf_b, ow_b, sep_b) = (
+                ftb.with_isa(b),
+                btf.with_isa(b),
+                ow.with_isa(b),
+                sep.with_isa(b),
+            );
+            ftb_i.render_into(&ortho, w, h, &mut img).unwrap();
+            check(&img, &|r| ftb_b.cast(r), &ortho);
+            ftb_i.render_into(&persp, w, h, &mut img).unwrap();
+            check(&img, &|r| ftb_b.cast(r), &persp);
+            btf_i.render_into(&persp, w, h, &mut img).unwrap();
+            check(&img, &|r| btf_b.cast(r), &persp);
+            ow_i.render_into(&persp, w, h, &mut img).unwrap();
+            check(&img, &|r| ow_b.cast(r), &persp);
+            ow_i.render_into(&ortho, w, h, &mut img).unwrap();
+            check(&img, &|r| ow_b.cast(r), &ortho);
+            sep_i.render_into(&persp, w, h, &mut img).unwrap();
+            check(&img, &|r| sep_b.cast(r), &persp);
+            sep_i.render_into(&ortho, w, h, &mut img).unwrap();
+            check(&img, &|r| sep_b.cast(r), &ortho);
+        }
     }
 }
 
@@ -762,13 +825,7 @@ fn byte_conversion_of_the_avx2_packets_is_the_correctly_rounded_quotient() {
 /// axis-aligned), in batches that leave every tail length.
 #[test]
 fn avx2_packets_are_bit_identical_to_single_rays() {
-    if std::env::var_os("VOLSAMPLE_EXPECT_AVX2").is_some() {
-        // `black_box`: the constant is the build's answer, read as a value.
-        assert!(
-            std::hint::black_box(volsample::render::AVX2_PACKETS),
-            "VOLSAMPLE_EXPECT_AVX2 is set but the AVX2 packets are not compiled in"
-        );
-    }
+    assert_best_isa_detected();
     let mut rng = Rng(0x0A5C_2000_8BAD_F00D);
     let bg = Sample {
         c: [0.1, 0.2, 0.3],
@@ -822,18 +879,24 @@ fn avx2_packets_are_bit_identical_to_single_rays() {
                 let ftb = FrontToBack::new();
                 let never = RayMarcher::new(vol, $mode, Trilinear::new(), ftb, step).unwrap();
                 assert!(never.correction().is_none());
-                never.cast_rays(&rays, &mut out).unwrap();
-                check(&out, &|r| never.cast(r), concat!($what, ", no termination"));
+                let base = never.with_isa(Isa::BASELINE);
+                for isa in Isa::available() {
+                    never.with_isa(isa).cast_rays(&rays, &mut out).unwrap();
+                    check(&out, &|r| base.cast(r), concat!($what, ", no termination"));
+                }
                 let m = RayMarcher::new(vol, $mode, Trilinear::new(), stop, step)
                     .unwrap()
                     .with_background(bg)
                     .unwrap();
-                m.cast_rays(&rays, &mut out).unwrap();
-                check(
-                    &out,
-                    &|r| m.cast(r),
-                    concat!($what, ", threshold and background"),
-                );
+                let base = m.with_isa(Isa::BASELINE);
+                for isa in Isa::available() {
+                    m.with_isa(isa).cast_rays(&rays, &mut out).unwrap();
+                    check(
+                        &out,
+                        &|r| base.cast(r),
+                        concat!($what, ", threshold and background"),
+                    );
+                }
             }};
         }
         both_orders!(OpacityWeighted, "OpacityWeighted");
@@ -909,16 +972,19 @@ fn coherent_packets_are_bit_identical_to_single_rays() {
                 let vol = $vol;
                 let stop = FrontToBack(Threshold::new(a_stop).unwrap());
                 let m = RayMarcher::new(vol, $mode, Trilinear::new(), stop, step).unwrap();
-                m.cast_rays(&rays, &mut out).unwrap();
-                for (ray, g) in rays.iter().zip(&out) {
-                    let w = m.cast(ray);
-                    assert!(
-                        same_sample(g, &w),
-                        "{}, case {case}: {ray:?}: {g:?} vs {w:?}",
-                        $what
-                    );
+                let base = m.with_isa(Isa::BASELINE);
+                for isa in Isa::available() {
+                    m.with_isa(isa).cast_rays(&rays, &mut out).unwrap();
+                    for (ray, g) in rays.iter().zip(&out) {
+                        let w = base.cast(ray);
+                        assert!(
+                            same_sample(g, &w),
+                            "{}, {isa}, case {case}: {ray:?}: {g:?} vs {w:?}",
+                            $what
+                        );
+                    }
+                    rays_checked += len;
                 }
-                rays_checked += len;
             }};
         }
         let soft_u8s = soft(&u8s);
@@ -951,12 +1017,7 @@ fn coherent_packets_are_bit_identical_to_single_rays() {
 /// fails unless the kernel is compiled in.
 #[test]
 fn integer_packets_are_bit_identical_to_single_rays() {
-    if std::env::var_os("VOLSAMPLE_EXPECT_AVX2").is_some() {
-        assert!(
-            std::hint::black_box(volsample::fixed_point::AVX2_INT_PACKETS),
-            "VOLSAMPLE_EXPECT_AVX2 is set but the integer AVX2 packets are not compiled in"
-        );
-    }
+    assert_best_isa_detected();
     let mut rng = Rng(0x1A7E_6E12_0000_8BAD);
     let bg = IntSample::new([1000, 2000, 3000], 30000).unwrap();
     let (mut rays_checked, mut ties) = (0, 0);
@@ -1036,12 +1097,18 @@ fn integer_packets_are_bit_identical_to_single_rays() {
         let with_bg = m.clone().with_background(bg);
         let mut out = vec![IntSample::TRANSPARENT; len];
         for (m, what) in [(&m, "no background"), (&with_bg, "background")] {
-            m.cast_rays(&rays, &mut out).unwrap();
-            for (ray, got) in rays.iter().zip(&out) {
-                let want = m.cast(ray);
-                assert_eq!(*got, want, "{what}, case {case}, stop {a_stop}: {ray:?}");
+            let base = m.clone().with_isa(Isa::BASELINE);
+            for isa in Isa::available() {
+                m.clone().with_isa(isa).cast_rays(&rays, &mut out).unwrap();
+                for (ray, got) in rays.iter().zip(&out) {
+                    let want = base.cast(ray);
+                    assert_eq!(
+                        *got, want,
+                        "{what}, {isa}, case {case}, stop {a_stop}: {ray:?}"
+                    );
+                }
+                rays_checked += len;
             }
-            rays_checked += len;
         }
         if case % 16 == 0 {
             let cam = Orthographic::looking_down_z(dims).unwrap();
@@ -1049,19 +1116,23 @@ fn integer_packets_are_bit_identical_to_single_rays() {
                 Perspective::new([2.0, 1.5, -6.0], [2.0, 1.5, 2.5], [0.0, 1.0, 0.0], 0.9).unwrap();
             let (w, h) = (1 + rng.below(25) as usize, 1 + rng.below(4) as usize);
             let mut img = vec![IntSample::TRANSPARENT; w * h];
+            let base = with_bg.clone().with_isa(Isa::BASELINE);
             let mut check = |cam: &dyn Camera, img: &[IntSample]| {
                 for j in 0..h {
                     for i in 0..w {
-                        let want = with_bg.cast(&cam.ray(i, j, w, h));
+                        let want = base.cast(&cam.ray(i, j, w, h));
                         assert_eq!(img[j * w + i], want, "{w}×{h} pixel ({i}, {j})");
                     }
                 }
                 rays_checked += w * h;
             };
-            with_bg.render_into(&cam, w, h, &mut img).unwrap();
-            check(&cam, &img);
-            with_bg.render_into(&persp, w, h, &mut img).unwrap();
-            check(&persp, &img);
+            for isa in Isa::available() {
+                let m = with_bg.clone().with_isa(isa);
+                m.render_into(&cam, w, h, &mut img).unwrap();
+                check(&cam, &img);
+                m.render_into(&persp, w, h, &mut img).unwrap();
+                check(&persp, &img);
+            }
         }
     }
     assert!(rays_checked > 1000, "{rays_checked} rays");

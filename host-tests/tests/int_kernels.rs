@@ -2,7 +2,7 @@
 //! `f32` results of the same method (within the bounds of `tolerance::integer`), on random
 //! inputs and on every extreme.
 
-use volsample::fixed_point::{IntMode, IntPos, IntSampler, IntWeights, ONE, SSE2_KERNEL};
+use volsample::fixed_point::{IntMode, IntPos, IntSampler, IntWeights, ONE};
 use volsample::{
     AssociatedU8, OpacityWeighted, Preweighted, Separate, StraightU8, Trilinear, Volume,
 };
@@ -199,15 +199,9 @@ fn combine_trilinear_matches_combine<const F: u32>(rng: &mut Rng, cells: usize) 
 
 #[test]
 fn trilinear_kernel_is_bit_identical_to_the_weighted_sum() {
-    // With `VOLSAMPLE_EXPECT_SSE2=1` (CI's SSE2 stage) the build must have the kernel in.
-    if std::env::var("VOLSAMPLE_EXPECT_SSE2").is_ok_and(|v| v == "1") {
-        // `black_box`: the constant is the build's answer, read as a value.
-        assert!(
-            std::hint::black_box(SSE2_KERNEL),
-            "VOLSAMPLE_EXPECT_SSE2=1 but the SSE2 kernel is not compiled in"
-        );
-    }
-    println!("SSE2 kernel compiled in: {SSE2_KERNEL}");
+    // On x86-64 `combine_trilinear` is the SSE2 kernel (every x86-64 CPU has SSE2), the
+    // portable `combine` elsewhere: this compares the two there.
+    println!("SSE2 kernel: {}", cfg!(target_arch = "x86_64"));
     let mut rng = Rng::new();
     combine_trilinear_matches_combine::<4>(&mut rng, 16);
     combine_trilinear_matches_combine::<5>(&mut rng, 4);

@@ -59,8 +59,6 @@ pub mod premul;
 pub mod preweighted;
 pub mod ray_marcher;
 pub mod separate;
-#[cfg(all(feature = "sse2", target_arch = "x86_64"))]
-mod sse2;
 pub mod weights;
 
 pub use composite::{composite_front_to_back, front_to_back, IntStop};
@@ -70,18 +68,6 @@ pub use extinction::{ExtinctionFx, IntExtinction};
 pub use premul::{premultiply, premultiply_voxel, unpremultiply};
 pub use ray_marcher::IntRayMarcher;
 pub use weights::{nearest_index, trilinear_weights, IntWeights};
-
-/// `true` when the integer `OpacityWeighted` trilinear kernel runs in SSE2 intrinsics: the
-/// crate feature `sse2` on an x86-64 target (every `F`, straight RGBA8 voxels; bit-identical
-/// to the portable kernel, which every other build uses).
-pub const SSE2_KERNEL: bool = cfg!(all(feature = "sse2", target_arch = "x86_64"));
-
-/// `true` when [`IntRayMarcher::cast_rays`] and [`IntRayMarcher::render_into`] march eight
-/// rays at once in AVX2 lanes (bit-identical to [`IntRayMarcher::cast`]) for
-/// `OpacityWeighted` trilinear sampling of straight RGBA8 voxels at `F = 8`, without opacity
-/// correction or skipping: the crate feature `avx2` in a build for a CPU with AVX2 and FMA,
-/// as [`AVX2_PACKETS`](crate::render::AVX2_PACKETS) of the float marcher.
-pub const AVX2_INT_PACKETS: bool = crate::render::AVX2_PACKETS;
 
 use crate::error::Error;
 use crate::filter::{Nearest, Trilinear, WeightedSum};

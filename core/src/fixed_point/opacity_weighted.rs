@@ -46,9 +46,9 @@ impl IntMode<StraightU8> for OpacityWeighted {
 
     #[inline(always)]
     fn combine_trilinear<const F: u32>(&self, taps: &[StraightU8; 8], frac: [u32; 3]) -> IntSample {
-        #[cfg(all(feature = "sse2", target_arch = "x86_64"))]
-        return super::sse2::opacity_weighted_trilinear::<F>(taps, frac);
-        #[cfg(not(all(feature = "sse2", target_arch = "x86_64")))]
+        #[cfg(target_arch = "x86_64")]
+        return crate::arch::sse2::opacity_weighted_trilinear::<F>(taps, frac);
+        #[cfg(not(target_arch = "x86_64"))]
         self.combine(taps, &IntWeights::trilinear_frac::<F>(frac))
     }
 }

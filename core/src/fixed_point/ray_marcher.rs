@@ -26,9 +26,10 @@
 use super::composite::{front_to_back, IntStop};
 use super::DEFAULT_FRAC_BITS;
 use super::{check_frac_bits, IntCorrection, IntFilter, IntMode, IntPos, IntSample, IntSampler};
+use crate::arch::Isa;
 use crate::error::Error;
 use crate::ray::{Camera, Ray};
-use crate::render::{trace_image, trace_rows8};
+use crate::render::{check_len, trace_image, trace_rows8};
 use crate::render::{Step, MAX_SAMPLES_PER_RAY};
 use crate::skip::{Emptiness, NoSkip, Occupancy, Skipping};
 use crate::volume::Volume;
@@ -93,6 +94,7 @@ pub struct IntRayMarcher<'v, V, M, Fl, const F: u32 = DEFAULT_FRAC_BITS, S = NoS
     background: IntSample,
     correction: Option<IntCorrection>,
     skip: S,
+    isa: Isa,
 }
 
 impl<'v, V, M, Fl, const F: u32> IntRayMarcher<'v, V, M, Fl, F, NoSkip>
@@ -141,6 +143,7 @@ where
             background: IntSample::TRANSPARENT,
             correction,
             skip: NoSkip,
+            isa: Isa::detect(),
         })
     }
 
@@ -173,6 +176,7 @@ where
             background: self.background,
             correction: self.correction,
             skip: grid,
+            isa: self.isa,
         })
     }
 }
@@ -196,6 +200,19 @@ where
     pub fn with_background(mut self, bg: IntSample) -> Self {
         self.background = bg;
         self
+    }
+
+    /// Runs the kernels in the instruction set `isa` instead of the best one this CPU has
+    /// (what `new` chose, [`Isa::detect`]): to compare instances, or to pin one. Every
+    /// instance gives the same results, bit for bit.
+    pub fn with_isa(mut self, isa: Isa) -> Self {
+        self.isa = isa;
+        self
+    }
+
+    /// The instruction set the kernels run in.
+    pub fn isa(&self) -> Isa {
+        self.isa
     }
 
     /// The step.
@@ -266,6 +283,12 @@ where
     /// ray's sample count when early termination stops it).
     #[inline]
     pub fn cast_counted(&self, ray: &Ray) -> (IntSample, u32) {
+        self.isa.run(|| self.cast_counted_here(ray))
+    }
+
+    /// [`cast_counted`](Self::cast_counted) in the instruction set of the caller.
+    #[inline(always)]
+    fn cast_counted_here(&self, ray: &Ray) -> (IntSample, u32) {
         let (acc, n) = match &self.correction {
             Some(c) => self.march(ray, c),
             None => self.march(ray, &Identity),
@@ -378,8 +401,8 @@ where
     }
 
     /// Casts every ray of `rays` into `out`: `out[i]` is [`cast`](Self::cast)`(&rays[i])`,
-    /// bit for bit. Where [`AVX2_INT_PACKETS`](super::AVX2_INT_PACKETS) (crate feature
-    /// `avx2`, a build for an AVX2 CPU) and the pipeline is `OpacityWeighted` trilinear over
+    /// bit for bit. Where the marcher's [`Isa`] is AVX2 (the default on a CPU that has it)
+    /// and the pipeline is `OpacityWeighted` trilinear over
     /// `StraightU8` at `F = 8` without correction or skipping, eight rays at a time in AVX2
     /// lanes (the same integer operations; rays of one direction also share the taps they
     /// read); otherwise, and for the rays beyond the last multiple of eight, one at a time.
@@ -409,30 +432,26 @@ where
     /// # Errors
     /// [`Error::ImageSizeMismatch`] unless `out.len() == rays.len()`.
     pub fn cast_rays(&self, rays: &[Ray], out: &mut [IntSample]) -> Result<(), Error> {
-        if out.len() != rays.len() {
-            return Err(Error::ImageSizeMismatch {
-                expected: rays.len(),
-                actual: out.len(),
-            });
-        }
-        let (rays, out) = self.cast_rays8(rays, out);
-        for (r, o) in rays.iter().zip(out) {
-            *o = self.cast(r);
-        }
+        check_len(rays.len(), out.len())?;
+        self.isa.run(|| self.cast_rays_here(rays, out));
         Ok(())
     }
 
-    /// Whether the eight-ray AVX2 kernel applies: [`AVX2_INT_PACKETS`](super::AVX2_INT_PACKETS)
-    /// and an `OpacityWeighted` trilinear pipeline over straight RGBA8 voxels at `F = 8`
+    /// [`cast_rays`](Self::cast_rays) of as many rays as outputs, in the instruction set of
+    /// the caller.
+    #[inline(always)]
+    fn cast_rays_here(&self, rays: &[Ray], out: &mut [IntSample]) {
+        let (rays, out) = self.cast_rays8(rays, out);
+        for (r, o) in rays.iter().zip(out) {
+            *o = self.cast_counted_here(r).0;
+        }
+    }
+
+    /// Whether the eight-ray AVX2 kernel applies: an AVX2 [`Isa`] and an `OpacityWeighted` trilinear pipeline over straight RGBA8 voxels at `F = 8`
     /// without correction or skipping, over a volume the kernel can index.
     #[inline]
     fn eight_ray_packets(&self) -> bool {
-        #[cfg(all(
-            feature = "avx2",
-            target_arch = "x86_64",
-            target_feature = "avx2",
-            target_feature = "fma"
-        ))]
+        #[cfg(target_arch = "x86_64")]
         {
             V::STRAIGHT_RGBA8
                 && M::OPACITY_WEIGHTED_U8
@@ -440,14 +459,10 @@ where
                 && F == 8
                 && !S::SKIPS
                 && self.correction.is_none()
-                && crate::lanes8::fits_int(self.sampler.volume())
+                && self.isa.avx2_token().is_some()
+                && crate::arch::avx2::fits_int(self.sampler.volume())
         }
-        #[cfg(not(all(
-            feature = "avx2",
-            target_arch = "x86_64",
-            target_feature = "avx2",
-            target_feature = "fma"
-        )))]
+        #[cfg(not(target_arch = "x86_64"))]
         {
             false
         }
@@ -456,36 +471,30 @@ where
     /// Where the eight-ray kernel applies ([`eight_ray_packets`](Self::eight_ray_packets)),
     /// casts the leading multiple of eight rays with it and returns the rest; otherwise
     /// returns all of them.
-    #[cfg(all(
-        feature = "avx2",
-        target_arch = "x86_64",
-        target_feature = "avx2",
-        target_feature = "fma"
-    ))]
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
     fn cast_rays8<'r, 'o>(
         &self,
         rays: &'r [Ray],
         out: &'o mut [IntSample],
     ) -> (&'r [Ray], &'o mut [IntSample]) {
-        use crate::lanes8::{in_packets, march8_int};
+        use crate::arch::avx2::{in_packets, march8_int};
+        let Some(cpu) = self.isa.avx2_token() else {
+            return (rays, out);
+        };
         if !self.eight_ray_packets() {
             return (rays, out);
         }
         let (d, a_stop) = (self.step.d(), self.stop.a_stop());
         in_packets(rays, out, |r| {
             let ranges = r.each_ref().map(|r| self.sample_range(r));
-            let acc = march8_int(self.sampler.volume(), r, &ranges, d, a_stop);
+            let acc = march8_int(cpu, self.sampler.volume(), r, &ranges, d, a_stop);
             acc.map(|a| front_to_back(a, self.background))
         })
     }
 
     /// Without the eight-ray kernel: all of `rays` are cast one at a time.
-    #[cfg(not(all(
-        feature = "avx2",
-        target_arch = "x86_64",
-        target_feature = "avx2",
-        target_feature = "fma"
-    )))]
+    #[cfg(not(target_arch = "x86_64"))]
     #[inline(always)]
     fn cast_rays8<'r, 'o>(
         &self,
@@ -493,6 +502,16 @@ where
         out: &'o mut [IntSample],
     ) -> (&'r [Ray], &'o mut [IntSample]) {
         (rays, out)
+    }
+
+    /// How many rays [`cast_rays`](Self::cast_rays) marches at once in lanes: 8 where this
+    /// marcher runs the eight-ray AVX2 kernel, else 1.
+    pub fn packet_width(&self) -> usize {
+        if self.eight_ray_packets() {
+            8
+        } else {
+            1
+        }
     }
 
     /// Renders a `width × height` image (row-major, row 0 at the top) into `image`: each
@@ -509,11 +528,17 @@ where
         height: usize,
         image: &mut [IntSample],
     ) -> Result<(), Error> {
-        if !self.eight_ray_packets() {
-            return trace_image(camera, width, height, image, |ray| self.cast(ray));
-        }
-        trace_rows8(camera, width, height, image, |rays, px| {
-            self.cast_rays(rays, px)
+        self.isa.run(|| {
+            if !self.eight_ray_packets() {
+                return trace_image(camera, width, height, image, |ray| {
+                    self.cast_counted_here(ray).0
+                });
+            }
+            trace_rows8(camera, width, height, image, |rays, px| {
+                check_len(rays.len(), px.len())?;
+                self.cast_rays_here(rays, px);
+                Ok(())
+            })
         })
     }
 }

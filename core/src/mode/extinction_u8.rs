@@ -62,12 +62,7 @@ impl TauTable {
     }
 
     /// `τ` of every opacity byte (the eight-ray lane kernel's lookups).
-    #[cfg(all(
-        feature = "avx2",
-        target_arch = "x86_64",
-        target_feature = "avx2",
-        target_feature = "fma"
-    ))]
+    #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(crate) fn taus(&self) -> &[f32; 256] {
         &self.tau

@@ -48,7 +48,7 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     const OPACITY_BASED: bool;
 
     /// `true` for [`OpacityWeighted`], one of the two modes the eight-ray lane kernel of
-    /// [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (feature `avx2`) computes.
+    /// [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (the AVX2 instance) computes.
     #[doc(hidden)]
     const OPACITY_WEIGHTED: bool = false;
     /// `true` for [`Separate`], the other.

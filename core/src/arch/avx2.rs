@@ -1,4 +1,6 @@
-//! Eight rays in the eight `f32` lanes of AVX2 vectors: the packet kernel of
+//! The AVX2 + FMA instance: the [`Avx2`] token and its entry ([`Avx2::run`], which compiles
+//! the portable kernels inlined into it for AVX2), and eight rays in the eight `f32` lanes of
+//! AVX2 vectors: the packet kernel of
 //! [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) for `OpacityWeighted`, `Separate`
 //! and `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of straight RGBA8 voxels,
 //! and `ExtinctionWeighted` of [`ExtinctionF32`] voxels ([`EXTINCTION_F32`]), front to back,
@@ -6,13 +8,13 @@
 //! [`IntRayMarcher::cast_rays`](crate::fixed_point::IntRayMarcher::cast_rays) for the integer
 //! `OpacityWeighted` trilinear pipeline at `F = 8` ([`march8_int`], [`int_sums`]).
 //!
-//! Compiled only with the crate feature `avx2` **and** a target with AVX2 and FMA enabled at
-//! compile time (`-C target-feature=+avx2,+fma`, or `-C target-cpu=native` on such a CPU;
-//! every AVX2 CPU of Intel and AMD has FMA); elsewhere
-//! `cast_rays` keeps its portable four-ray packets (the integer one casts one ray at a time).
-//! An `unsafe` call enters the kernel (see [`march8`]; [`march8_int`] likewise); inside it, a
-//! `#[target_feature(enable = "avx2,fma")]` function, the value intrinsics of `core::arch`
-//! are safe functions. Five more `unsafe` blocks, each with its
+//! Compiled into every x86-64 build; entered only with an [`Avx2`] token, which only
+//! [`Avx2::detect`] makes (CPUID: AVX2, FMA, and the OS saving the 256-bit registers; every
+//! AVX2 CPU of Intel and AMD has FMA). Elsewhere `cast_rays` keeps its portable four-ray
+//! packets (the integer one casts one ray at a time). Inside the
+//! `#[target_feature(enable = "avx2,fma")]` functions the value intrinsics of `core::arch`
+//! are safe functions; the entries ([`Avx2::run`], [`march8`], [`march8_int`]) call them in an
+//! `unsafe` block whose proof is the token. Five more `unsafe` blocks, each with its
 //! proof: the bit casts between an integer vector and `[i32; 8]` (`to_i32s`, `from_i32s`),
 //! the unchecked voxel loads of [`Taps::load`], taken only after one vector test per read
 //! has shown all 64 tap indices inside the data (eight scalar loads per tap; a gather
@@ -41,8 +43,8 @@
 //! `n·h + (n·l)` with `1/255 = h + l` split into two `f32` (one product, one fused
 //! multiply-add), which is the rounded quotient for every byte (a unit test here checks all
 //! 256).
-//! `tests/fast_paths.rs` compares `cast_rays` with `cast` bit for bit when the kernel is
-//! compiled in ([`AVX2_PACKETS`](crate::render::AVX2_PACKETS)).
+//! `tests/fast_paths.rs` compares `cast_rays` in every instruction set the CPU has with the
+//! baseline `cast`, bit for bit.
 //!
 //! **The integer pipeline** ([`march8_int`], `INTEGER_OW`) is bit-identical to
 //! [`IntRayMarcher::cast`](crate::fixed_point::IntRayMarcher::cast) the same way: the
@@ -92,6 +94,59 @@ use crate::sample::Sample;
 use crate::volume::Volume;
 use crate::voxel::{ExtinctionF32, StraightU8, Voxel};
 
+/// Proof that this CPU runs AVX2 and FMA instructions: made only by [`detect`](Self::detect).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub(crate) struct Avx2(());
+
+impl Avx2 {
+    /// The token, where CPUID says the CPU has AVX2 and FMA and the operating system saves
+    /// the AVX registers (XCR0 bits 1 and 2, read with XGETBV where CPUID says the OS enabled
+    /// it, OSXSAVE).
+    pub(crate) fn detect() -> Option<Self> {
+        // Leaf 1, ECX: bit 12 FMA, bit 27 OSXSAVE, bit 28 AVX; leaf 7 sub-leaf 0, EBX: bit 5
+        // AVX2 (Intel SDM vol. 2A, CPUID; AMD APM vol. 3, appendix E).
+        if __cpuid(0).eax < 7 {
+            return None;
+        }
+        let ecx = __cpuid(1).ecx;
+        let bit = |r: u32, b: u32| r & (1 << b) != 0;
+        if !(bit(ecx, 12) && bit(ecx, 27) && bit(ecx, 28)) {
+            return None;
+        }
+        // SAFETY: XGETBV needs the OS to have set CR4.OSXSAVE, which CPUID.1:ECX.OSXSAVE
+        // (bit 27, tested above) reports.
+        let xcr0 = unsafe { xcr0() };
+        let ebx = __cpuid_count(7, 0).ebx;
+        (xcr0 & 0b110 == 0b110 && bit(ebx, 5)).then_some(Avx2(()))
+    }
+
+    /// Runs `f` inside a function compiled for AVX2 and FMA, into which `f` and the
+    /// `#[inline(always)]` code it calls are inlined.
+    #[inline(always)]
+    pub(crate) fn run<R>(self, f: impl FnOnce() -> R) -> R {
+        // SAFETY: `self` exists only where `detect` found AVX2 and FMA on this CPU.
+        unsafe { run_avx2(f) }
+    }
+}
+
+/// XCR0, the register of the state components the OS saves.
+///
+/// # Safety
+/// The OS must have enabled XGETBV (CPUID.1:ECX.OSXSAVE).
+#[target_feature(enable = "xsave")]
+unsafe fn xcr0() -> u64 {
+    // SAFETY: the caller's contract: XGETBV is enabled; 0 is the index of XCR0.
+    unsafe { _xgetbv(0) }
+}
+
+/// `f()`, compiled for AVX2 and FMA ([`Avx2::run`]).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn run_avx2<R>(f: impl FnOnce() -> R) -> R {
+    f()
+}
+
 /// How many steps ahead each step prefetches the voxels (of lanes 0 and 7: in a packet of a
 /// row of pixels the others lie between them).
 const PREFETCH_STEPS: f32 = 6.0;
@@ -137,14 +192,15 @@ fn lanes(a: [f32; LANES]) -> __m256 {
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 fn array(v: __m256) -> [f32; LANES] {
-    to_i32s(_mm256_castps_si256(v)).map(|x| f32::from_bits(x as u32))
+    map8(to_i32s(_mm256_castps_si256(v)), |x| {
+        f32::from_bits(x as u32)
+    })
 }
 
 /// The lanes of an integer vector as an array (through memory: the eight lanes of a tap's
 /// indices are read as scalars, where eight lane extractions cost about 6 % of the kernel's
 /// time).
 #[inline(always)]
-#[allow(unsafe_code)]
 fn to_i32s(v: __m256i) -> [i32; LANES] {
     // SAFETY: a bit cast between two 32-byte plain-data types, every bit pattern valid in both.
     unsafe { core::mem::transmute::<__m256i, [i32; LANES]>(v) }
@@ -152,10 +208,34 @@ fn to_i32s(v: __m256i) -> [i32; LANES] {
 
 /// An integer vector of an array's lanes ([`to_i32s`] inverted).
 #[inline(always)]
-#[allow(unsafe_code)]
 fn from_i32s(a: [i32; LANES]) -> __m256i {
     // SAFETY: as in `to_i32s`.
     unsafe { core::mem::transmute::<[i32; LANES], __m256i>(a) }
+}
+
+/// `a.map(f)` without `core::array::map`: that generic is compiled for the baseline (it does
+/// not inherit a caller's target features), so a closure with AVX2 instructions passed to it
+/// cannot be inlined into it and stays a call; these are inlined into their AVX2 callers
+/// first, and the closure then into the caller. (With `map`, the AVX2 packets took 1.11 of
+/// their time in the build for an AVX2 CPU, which compiles `map` with AVX2.)
+#[inline(always)]
+fn map8<T, U>(a: [T; 8], mut f: impl FnMut(T) -> U) -> [U; 8] {
+    let [a0, a1, a2, a3, a4, a5, a6, a7] = a;
+    [f(a0), f(a1), f(a2), f(a3), f(a4), f(a5), f(a6), f(a7)]
+}
+
+/// [`map8`] for four elements.
+#[inline(always)]
+fn map4<T, U>(a: [T; 4], mut f: impl FnMut(T) -> U) -> [U; 4] {
+    let [a0, a1, a2, a3] = a;
+    [f(a0), f(a1), f(a2), f(a3)]
+}
+
+/// [`map8`] for three elements.
+#[inline(always)]
+fn map3<T, U>(a: [T; 3], mut f: impl FnMut(T) -> U) -> [U; 3] {
+    let [a0, a1, a2] = a;
+    [f(a0), f(a1), f(a2)]
 }
 
 /// `1/255` as the sum of two `f32`: `UNORM_HI` rounded, `UNORM_LO` the rest rounded.
@@ -207,7 +287,9 @@ impl<'d, V: Voxel> Taps<'d, V> {
     #[inline]
     #[target_feature(enable = "avx2,fma")]
     fn new(data: &'d [V], at: [__m256i; 8]) -> Self {
-        let max = at[1..].iter().fold(at[0], |m, &a| _mm256_max_epu32(m, a));
+        let [a0, a1, a2, a3, a4, a5, a6, a7] = at;
+        let max = |a, b| _mm256_max_epu32(a, b);
+        let max = max(max(max(a0, a1), max(a2, a3)), max(max(a4, a5), max(a6, a7)));
         // `last` is the last index as an `i32` where the length is `1..=i32::MAX` (`fits`
         // holds for every volume the kernel is given; the test below repeats it).
         let len = data.len();
@@ -240,7 +322,6 @@ impl<'d, V: Voxel> Taps<'d, V> {
     /// kernel never reads this way.
     #[inline]
     #[target_feature(enable = "avx2,fma")]
-    #[allow(unsafe_code)]
     fn load_f32x4<const INSIDE: bool>(&self, k: usize) -> [__m256; 4] {
         let (Some(&at), Some(ext)) = (self.at.get(k), self.f32x4) else {
             return [_mm256_setzero_ps(); 4];
@@ -251,13 +332,13 @@ impl<'d, V: Voxel> Taps<'d, V> {
         };
         let at = to_i32s(at);
         let m = if INSIDE && self.inside {
-            at.map(|i| {
+            map8(at, |i| {
                 // SAFETY: `inside`: `0 ≤ i < data.len()` = `ext.len()` as unsigned numbers,
                 // tested by `new` for every lane of every tap.
                 vector(unsafe { *ext.get_unchecked(i as u32 as usize) })
             })
         } else {
-            at.map(|i| {
+            map8(at, |i| {
                 vector(
                     ext.get(i as u32 as usize)
                         .copied()
@@ -303,7 +384,6 @@ impl<'d, V: Voxel> Taps<'d, V> {
     /// test here folds away).
     #[inline]
     #[target_feature(enable = "avx2,fma")]
-    #[allow(unsafe_code)]
     fn load<const INSIDE: bool>(&self, k: usize) -> __m256i {
         let word = |v: V| i32::from_le_bytes(v.rgba8());
         // (`k < 8` in every call; another `k` reads transparent voxels.)
@@ -312,13 +392,13 @@ impl<'d, V: Voxel> Taps<'d, V> {
         };
         let at = to_i32s(at);
         if INSIDE && self.inside {
-            from_i32s(at.map(|i| {
+            from_i32s(map8(at, |i| {
                 // SAFETY: `inside`: `0 ≤ i < data.len()` as unsigned numbers, tested by `new`
                 // for every lane of every tap (`max_epu32(max, last) = last` in all lanes).
                 word(unsafe { *self.data.get_unchecked(i as u32 as usize) })
             }))
         } else {
-            from_i32s(at.map(|i| {
+            from_i32s(map8(at, |i| {
                 word(
                     self.data
                         .get(i as u32 as usize)
@@ -335,7 +415,6 @@ impl<'d, V: Voxel> Taps<'d, V> {
     /// back to the checked loads).
     #[inline]
     #[target_feature(enable = "avx2,fma")]
-    #[allow(unsafe_code)]
     fn load_pair(&self, k: usize) -> [__m256i; 2] {
         let (at, bytes) = match (self.at.get(k), self.bytes) {
             (Some(&at), Some(bytes)) if self.pairs && k % 2 == 0 => (to_i32s(at), bytes),
@@ -460,9 +539,9 @@ impl<const A: usize> Cell<A> {
                 let [w2, w3] = taps.load_pair(k2);
                 [w0, w1, w2, w3]
             } else if taps.inside {
-                [k0, k1, k2, k3].map(|k| taps.load::<true>(k))
+                map4([k0, k1, k2, k3], |k| taps.load::<true>(k))
             } else {
-                [k0, k1, k2, k3].map(|k| taps.load::<false>(k))
+                map4([k0, k1, k2, k3], |k| taps.load::<false>(k))
             };
             let [p0, p1] = [int_pair(w0, w1), int_pair(w2, w3)];
             *out = [p0, p0, p1, p1];
@@ -530,7 +609,7 @@ fn channels<const MODE: u8>(g: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
         _mm256_and_si256(_mm256_srli_epi32::<8>(g), byte),
         _mm256_and_si256(_mm256_srli_epi32::<16>(g), byte),
     ];
-    let [r, g, b] = bytes.map(|n| unorm8(n));
+    let [r, g, b] = map3(bytes, |n| unorm8(n));
     if MODE == EXTINCTION_U8 {
         // (Every lane is a byte, so the lookup cannot miss.)
         let t = |n: i32| taus.get(usize::from(n as u8)).copied().unwrap_or(0.0);
@@ -603,7 +682,9 @@ fn int_pair(w0: __m256i, w1: __m256i) -> [__m256; 4] {
     let (b, a) = (_mm256_and_si256(ba, byte), _mm256_srli_epi16::<8>(ba));
     let flip = _mm256_set1_epi16(i16::MIN);
     let weighted = |c: __m256i| _mm256_xor_si256(_mm256_mullo_epi16(c, a), flip);
-    [weighted(r), weighted(g), weighted(b), a].map(|v| _mm256_castsi256_ps(v))
+    map4([weighted(r), weighted(g), weighted(b), a], |v| {
+        _mm256_castsi256_ps(v)
+    })
 }
 
 /// The integer `OpacityWeighted` trilinear sample at `F = 8` from the taps' pairs along a
@@ -639,7 +720,7 @@ fn int_sums(pair: impl Fn(usize) -> [__m256; 4], f: [__m256i; 3]) -> [__m256; 4]
     let wp = _mm256_or_si256(gp, _mm256_slli_epi32::<16>(fp));
     let (fq, fz) = ((gq, fq), (gz, fz));
     let lerp = |a: __m256i, b: __m256i, (g, f): (__m256i, __m256i)| add(mul(a, g), mul(b, f));
-    let along_p = |j: usize| pair(j).map(|v| _mm256_madd_epi16(_mm256_castps_si256(v), wp));
+    let along_p = |j: usize| map4(pair(j), |v| _mm256_madd_epi16(_mm256_castps_si256(v), wp));
     let along_q = |[r0, g0, b0, a0]: [__m256i; 4], [r1, g1, b1, a1]: [__m256i; 4]| {
         [
             lerp(r0, r1, fq),
@@ -739,7 +820,9 @@ fn extinction_step(s: [__m256; 4], d: f32) -> ([__m256; 3], __m256) {
     if _mm256_movemask_ps(below) != 0xff {
         return extinction_step_per_lane(s, d);
     }
-    let [p0, p1, p2, p3, p4, p5, p6] = PHI_POLY.map(|b| k(f32::from_bits(b)));
+    let [b0, b1, b2, b3, b4, b5, b6] = PHI_POLY;
+    let c = |b: u32| k(f32::from_bits(b));
+    let (p0, p1, p2, p3, p4, p5, p6) = (c(b0), c(b1), c(b2), c(b3), c(b4), c(b5), c(b6));
     let x2 = mul(x, x);
     let x4 = mul(x2, x2);
     let low = add(add(p0, mul(p1, x)), mul(add(p2, mul(p3, x)), x2));
@@ -810,8 +893,8 @@ pub(crate) fn fits<V: Voxel>(vol: &Volume<'_, V>) -> bool {
 /// byte in `taus`; the other modes ignore it), or [`EXTINCTION_F32`]. `V` must be
 /// [`Voxel::STRAIGHT_RGBA8`] (for `EXTINCTION_F32`, [`ExtinctionF32`]: others read as
 /// transparent) and `vol` must [`fits`].
-#[allow(unsafe_code)]
 pub(crate) fn march8<V: Voxel, const MODE: u8>(
+    _cpu: Avx2,
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     ranges: &[(f32, u32); LANES],
@@ -819,11 +902,8 @@ pub(crate) fn march8<V: Voxel, const MODE: u8>(
     a_stop: f32,
     taus: &[f32; 256],
 ) -> [Sample; LANES] {
-    // SAFETY: (`unsafe` is allowed only in this module, in builds with the feature `avx2`.)
-    // `march8_avx2` needs a CPU with AVX2 and FMA; this module is compiled only when the build
-    // enables AVX2 and FMA for its target (`cfg(target_feature = "avx2")`, `"fma"`), which
-    // already lets the compiler emit those instructions anywhere in the program, so any CPU
-    // that runs this code has them.
+    // SAFETY: `march8_any` needs a CPU with AVX2 and FMA; `_cpu` exists only where
+    // `Avx2::detect` found them on this CPU.
     let acc = unsafe { march8_any::<V, MODE>(vol, rays, ranges, d, a_stop, taus) };
     let [r, g, b, a] = acc.map(|v| v.map(|x| f32::from_bits(x as u32)));
     let mut out = [Sample::TRANSPARENT; LANES];
@@ -841,8 +921,8 @@ pub(crate) fn march8<V: Voxel, const MODE: u8>(
 /// composited by `fixed_point::front_to_back` until `A ≥ a_stop` before a sample: the
 /// accumulated samples before the background, bit-identical to `IntRayMarcher::cast`'s march.
 /// `V` must be [`Voxel::STRAIGHT_RGBA8`] and `vol` must [`fits_int`].
-#[allow(unsafe_code)]
 pub(crate) fn march8_int<V: Voxel>(
+    _cpu: Avx2,
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     ranges: &[(f32, u32); LANES],
@@ -1071,7 +1151,7 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
                 next,
             )
         };
-        let [(fx, x0, x1, qx), (fy, y0, y1, qy), (fz, z0, z1, qz)] = axes.map(split);
+        let [(fx, x0, x1, qx), (fy, y0, y1, qy), (fz, z0, z1, qz)] = map3(axes, split);
         let row = |y, z| _mm256_add_epi32(_mm256_mullo_epi32(y, sx), _mm256_mullo_epi32(z, sy));
         // The prefetch (with the reuse, whose branches would otherwise leave the remaining
         // reads waiting on memory): lanes 0 and 7 of the four tap rows ahead. Its addresses
@@ -1159,7 +1239,7 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
                     2 => b2,
                     _ => b3,
                 };
-                int_sums(|j| cell.tap(first(j)), f.map(|v| _mm256_castps_si256(v)))
+                int_sums(|j| cell.tap(first(j)), map3(f, |v| _mm256_castps_si256(v)))
             } else {
                 mode_sums::<MODE>(|p| [cell.tap(2 * p), cell.tap(2 * p + 1)], &w)
             }
@@ -1169,7 +1249,7 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
                 |[lo, hi]: [__m256i; 2]| [channels::<MODE>(lo, taus), channels::<MODE>(hi, taus)];
             if MODE == INTEGER_OW {
                 // Pairs along x: taps `2j` and `2j + 1`.
-                let f = [fx, fy, fz].map(|v| _mm256_castps_si256(v));
+                let f = map3([fx, fy, fz], |v| _mm256_castps_si256(v));
                 if taps.pairs {
                     int_sums(|j| int_pair_of(taps.load_pair(2 * j)), f)
                 } else if taps.inside {
@@ -1259,9 +1339,11 @@ mod tests {
     /// unsigned numbers), and both loads read the voxels' words; an index outside reads the
     /// transparent voxel.
     #[test]
-    #[allow(unsafe_code)]
     fn taps_are_loaded_unchecked_only_when_all_indices_are_inside() {
-        // SAFETY: the module is compiled only for targets with AVX2 and FMA.
+        let Some(_cpu) = Avx2::detect() else {
+            return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
+        };
+        // SAFETY: `detect` found AVX2 and FMA on this CPU.
         unsafe { taps_check() }
     }
 
@@ -1302,9 +1384,11 @@ mod tests {
     /// inside, in `StraightU8` data; `load_pair` reads what `load` reads, with `pairs` or
     /// without (its fallback), for even and odd `k`.
     #[test]
-    #[allow(unsafe_code)]
     fn pairs_are_read_only_side_by_side() {
-        // SAFETY: as above.
+        let Some(_cpu) = Avx2::detect() else {
+            return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
+        };
+        // SAFETY: `detect` found AVX2 and FMA on this CPU.
         unsafe { pairs_check() }
     }
 
@@ -1355,9 +1439,11 @@ mod tests {
     /// at or above 1, NaN, infinite or negative `τ` (the per-lane path); colors `C^τ ≤ τ`
     /// mostly, so that `φ` shows (the clamp of `C̃` into `[0, α]` would hide it).
     #[test]
-    #[allow(unsafe_code)]
     fn extinction_step_is_integrate_step_per_lane() {
-        // SAFETY: as above.
+        let Some(_cpu) = Avx2::detect() else {
+            return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
+        };
+        // SAFETY: `detect` found AVX2 and FMA on this CPU.
         unsafe { extinction_check() }
     }
 
@@ -1445,9 +1531,11 @@ mod tests {
 
     /// `div65280` is `⌊n/65280⌋` for every `u32` `n`, in every lane.
     #[test]
-    #[allow(unsafe_code)]
     fn div65280_is_the_floor_of_the_quotient_for_every_u32() {
-        // SAFETY: as above.
+        let Some(_cpu) = Avx2::detect() else {
+            return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
+        };
+        // SAFETY: `detect` found AVX2 and FMA on this CPU.
         unsafe { div65280_check() }
     }
 
@@ -1477,9 +1565,11 @@ mod tests {
     /// `quantize8` is `⌊256·p + ½⌋` for every `f32` `p` in `[0, 2^14)` (`IntPos::quantize`'s
     /// `⌊x·2^8 + ½⌋`, which it computes in `f64`), in every lane.
     #[test]
-    #[allow(unsafe_code)]
     fn quantization_rounds_half_up_for_every_f32_below_2_14() {
-        // SAFETY: as above.
+        let Some(_cpu) = Avx2::detect() else {
+            return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
+        };
+        // SAFETY: `detect` found AVX2 and FMA on this CPU.
         unsafe { quantize8_check() }
     }
 
@@ -1501,9 +1591,11 @@ mod tests {
     /// (0, 1, 127, 128, 254, 255 on each axis), and random taps and fractions; with the taps
     /// packed into pairs along x and along y ([`int_pair`]).
     #[test]
-    #[allow(unsafe_code)]
     fn integer_sums_are_the_portable_kernel() {
-        // SAFETY: as above.
+        let Some(_cpu) = Avx2::detect() else {
+            return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
+        };
+        // SAFETY: `detect` found AVX2 and FMA on this CPU.
         unsafe { int_sums_check() }
     }
 
@@ -1581,9 +1673,11 @@ mod tests {
 
     /// `unorm8` of every byte, in each lane, is the table's correctly rounded `n/255`.
     #[test]
-    #[allow(unsafe_code)]
     fn byte_conversion_is_the_correctly_rounded_quotient() {
-        // SAFETY: as above.
+        let Some(_cpu) = Avx2::detect() else {
+            return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
+        };
+        // SAFETY: `detect` found AVX2 and FMA on this CPU.
         unsafe { unorm8_check() }
     }
 

@@ -1,5 +1,5 @@
-//! The integer `OpacityWeighted` trilinear kernel in SSE2 (feature `sse2`, x86-64): the same
-//! exact sums as the portable [`combine`](super::IntMode::combine), in another order, so the
+//! The integer `OpacityWeighted` trilinear kernel in SSE2 (every x86-64 build): the same
+//! exact sums as the portable [`combine`](crate::fixed_point::IntMode::combine), in another order, so the
 //! same U8.8 sample bit for bit.
 //!
 //! The portable kernel forms `S_α = Σ w_i·α_i` and `S_c = Σ w_i·α_i·C_i` with the 64-bit
@@ -14,8 +14,8 @@
 //!    signed sums stay within `±2^27`);
 //! 3. along y and z at once: `S = Σ_j wyz_j·X_j` with `wyz_j ≤ 2^(2F) ≤ 2^24`, in 64-bit lanes
 //!    (`pmuludq` of two 32-bit operands; `S ≤ 2^(3F)·255² < 2^52`);
-//! 4. the rounding of [`levels_to_u88`](super::levels_to_u88) and
-//!    [`products_to_u88`](super::products_to_u88) (**round half up**):
+//! 4. the rounding of [`levels_to_u88`](crate::fixed_point::levels_to_u88) and
+//!    [`products_to_u88`](crate::fixed_point::products_to_u88) (**round half up**):
 //!    `α = ⌊(256·S_α + 2^(s−1))/2^s⌋`, `C̃ = ⌊(512·S_c + 255·2^s)/(510·2^s)⌋` with `s = 3F`
 //!    (numerators below `2^62`), the latter as `⌊q/255⌋` of
 //!    `q = ⌊(512·S_c + 255·2^s)/2^(s+1)⌋ < 2^25` (the floor of a floor of a quotient is the
@@ -29,7 +29,7 @@
 
 use core::arch::x86_64::*;
 
-use super::IntSample;
+use crate::fixed_point::IntSample;
 use crate::voxel::StraightU8;
 
 /// `(q·DIV255_MAGIC) >> DIV255_SHIFT = ⌊q/255⌋` for every `q < 2^32`.
@@ -39,7 +39,6 @@ pub(crate) const DIV255_SHIFT: u32 = 39;
 
 /// `combine` of the 8 taps of a trilinear cell with the weights of `frac`.
 #[inline(always)]
-#[allow(unsafe_code)]
 pub(crate) fn opacity_weighted_trilinear<const F: u32>(
     taps: &[StraightU8; 8],
     frac: [u32; 3],

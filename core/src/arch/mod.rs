@@ -1,0 +1,182 @@
+//! Instruction sets: which instance of a kernel runs, chosen at run time.
+//!
+//! Every kernel has a portable instance, the only one linked on Cortex-M and other
+//! targets. On x86-64 the AVX2 + FMA instances are compiled into every build (functions with
+//! `#[target_feature(enable = "avx2,fma")]`, the portable code inlined into them), and a
+//! marcher runs them when its [`Isa`] says so: by default the best the CPU has
+//! ([`Isa::detect`], CPUID from `core::arch`, no `std`, nothing cached in global state), or the
+//! one a caller forces ([`RayMarcher::with_isa`](crate::RayMarcher::with_isa),
+//! [`IntRayMarcher::with_isa`](crate::fixed_point::IntRayMarcher::with_isa)) to compare them.
+//! Every instance gives bit-identical results: the float ones those of one sample of one ray
+//! at a time, the integer ones those of the bit-exact model.
+//!
+//! This module is the one place in the crate with `unsafe` code (every other module is
+//! `forbid(unsafe_code)`): the entries into the AVX2 instances, whose proof is an [`Isa`]
+//! value that only detection makes; the SSE2 kernel's entry (SSE2 is part of x86-64); and the
+//! unchecked voxel loads of the AVX2 packets, each after its bounds test. Each block carries
+//! its `SAFETY` proof (`clippy::undocumented_unsafe_blocks` is denied here).
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod avx2;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod sse2;
+
+use crate::error::Error;
+
+/// An instruction set the kernels run in: a token that the CPU has it.
+///
+/// Made only by detection ([`detect`](Self::detect), [`avx2`](Self::avx2),
+/// [`by_name`](Self::by_name)) or as [`BASELINE`](Self::BASELINE), so holding one proves that
+/// its instructions run on this CPU. On targets without alternative instances the type has one
+/// value and no size.
+///
+/// ```
+/// use volsample::Isa;
+/// let best = Isa::detect();
+/// assert!(Isa::available().contains(&best));
+/// assert_eq!(Isa::by_name("baseline"), Ok(Isa::BASELINE));
+/// assert_eq!(Isa::by_name(best.name()), Ok(best));
+/// assert!(Isa::by_name("sse9").is_err());
+/// ```
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Isa(Kind);
+
+impl core::fmt::Debug for Isa {
+    /// `Isa(baseline)`, `Isa(avx2)`.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "Isa({})", self.name())
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+enum Kind {
+    Baseline,
+    #[cfg(target_arch = "x86_64")]
+    Avx2(avx2::Avx2),
+}
+
+impl Isa {
+    /// The portable instances, which run on every CPU of the target.
+    pub const BASELINE: Isa = Isa(Kind::Baseline);
+
+    /// Every name [`by_name`](Self::by_name) knows, on any target.
+    pub const NAMES: [&'static str; 2] = ["baseline", "avx2"];
+
+    /// The best instruction set this CPU has: [`avx2`](Self::avx2) where it is `Some`, else
+    /// [`BASELINE`](Self::BASELINE). Runs CPUID on x86-64 (a few hundred nanoseconds, more in a
+    /// virtual machine): detect once and keep the value, as the marchers do at construction.
+    #[inline]
+    pub fn detect() -> Isa {
+        Self::avx2().unwrap_or(Self::BASELINE)
+    }
+
+    /// AVX2 with FMA, where this is an x86-64 CPU that has both and the operating system
+    /// saves the 256-bit registers; `None` elsewhere.
+    #[inline]
+    pub fn avx2() -> Option<Isa> {
+        #[cfg(target_arch = "x86_64")]
+        {
+            avx2::Avx2::detect().map(|t| Isa(Kind::Avx2(t)))
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            None
+        }
+    }
+
+    /// Every instruction set this CPU has, baseline first.
+    pub fn available() -> heapless::Vec<Isa, 2> {
+        let mut all = heapless::Vec::new();
+        for isa in [Some(Self::BASELINE), Self::avx2()].into_iter().flatten() {
+            // Capacity 2, at most 2 values: `push` cannot fail.
+            let _ = all.push(isa);
+        }
+        all
+    }
+
+    /// The instruction set named `name` (one of [`NAMES`](Self::NAMES)), if this CPU has it.
+    ///
+    /// # Errors
+    /// [`Error::UnknownIsa`] for any other name, [`Error::IsaUnavailable`] where this CPU
+    /// (or target) lacks it.
+    pub fn by_name(name: &str) -> Result<Isa, Error> {
+        match name {
+            "baseline" => Ok(Self::BASELINE),
+            "avx2" => Self::avx2().ok_or(Error::IsaUnavailable),
+            _ => Err(Error::UnknownIsa),
+        }
+    }
+
+    /// The name: `"baseline"` or `"avx2"`.
+    pub fn name(self) -> &'static str {
+        match self.0 {
+            Kind::Baseline => "baseline",
+            #[cfg(target_arch = "x86_64")]
+            Kind::Avx2(_) => "avx2",
+        }
+    }
+
+    /// The AVX2 token, where this is AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(crate) fn avx2_token(self) -> Option<avx2::Avx2> {
+        match self.0 {
+            Kind::Avx2(t) => Some(t),
+            Kind::Baseline => None,
+        }
+    }
+
+    /// Runs `f` in this instruction set: inside a function compiled for it, into which `f`
+    /// and the `#[inline(always)]` code it calls are inlined (the portable code then compiled
+    /// with the instruction set's instructions; the same operations, so the same results).
+    #[inline(always)]
+    pub(crate) fn run<R>(self, f: impl FnOnce() -> R) -> R {
+        match self.0 {
+            Kind::Baseline => f(),
+            #[cfg(target_arch = "x86_64")]
+            Kind::Avx2(t) => t.run(f),
+        }
+    }
+}
+
+impl Default for Isa {
+    /// [`Isa::detect`].
+    fn default() -> Self {
+        Self::detect()
+    }
+}
+
+impl core::fmt::Display for Isa {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+
+    /// The core's CPUID detection agrees with `std`'s (an independent implementation), so
+    /// that the AVX2 instances run wherever the CPU has them and nowhere else.
+    #[test]
+    fn detection_agrees_with_std() {
+        #[cfg(target_arch = "x86_64")]
+        {
+            let std_says =
+                std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma");
+            assert_eq!(Isa::avx2().is_some(), std_says);
+            assert_eq!(
+                Isa::detect().name(),
+                if std_says { "avx2" } else { "baseline" }
+            );
+        }
+        assert_eq!(Isa::available().first(), Some(&Isa::BASELINE));
+        for isa in Isa::available() {
+            assert_eq!(Isa::by_name(isa.name()), Ok(isa));
+        }
+        assert_eq!(Isa::by_name("AVX2"), Err(Error::UnknownIsa));
+    }
+}
