@@ -17,7 +17,7 @@
 
 use core::marker::PhantomData;
 
-use crate::arch::Isa;
+use crate::arch::{in_isa, Isa};
 use crate::composite::{back_to_front, front_to_back, over, Order, Termination};
 use crate::error::Error;
 use crate::filter::Filter;
@@ -266,15 +266,17 @@ where
 
     /// Integrates one ray and composites it over the background.
     ///
-    /// Front to back, on targets with 128-bit `f32` vector units (x86-64, AArch64, WebAssembly
-    /// SIMD), four consecutive samples are computed at a time in [`F32x4`] lanes and then
-    /// composited in order (the samples after an early stop are computed and dropped): the
-    /// same `f32` operations per sample as one at a time, so the result is bit-identical
-    /// (`tests/fast_paths.rs`), and the four samples' chains of dependent operations overlap.
-    /// In the `ray_march` bench (same-load runs) this took `ExtinctionWeighted` from 2.4–3.0×
-    /// the time of `OpacityWeighted` to 1.17–1.58×. Not for [`Nearest`](crate::Nearest), nor
-    /// for the opacity-based trilinear kernels over [`Voxel::F32_CHANNELS`] formats, which ran
-    /// as fast or faster one sample at a time, nor on a scalar FPU such as the Cortex-M4F's.
+    /// Runs in the marcher's [`Isa`]. Front to back, where the eight-lane AVX2 kernel applies
+    /// (an AVX2 [`Isa`] and the marchers of [`cast_rays`](Self::cast_rays)'s eight-ray
+    /// packets), eight consecutive samples are computed at a time in its lanes and composited
+    /// in order; elsewhere, on targets with 128-bit `f32` vector units (x86-64, AArch64,
+    /// WebAssembly SIMD), four at a time in [`F32x4`] lanes (the samples after an early stop
+    /// are computed and dropped). Either way each sample takes the same `f32` operations as
+    /// one at a time, so the result is bit-identical (`tests/fast_paths.rs`), and the
+    /// samples' chains of dependent operations overlap. The four lanes are not used for
+    /// [`Nearest`](crate::Nearest), nor for the opacity-based trilinear kernels over
+    /// [`Voxel::F32_CHANNELS`] formats, which ran as fast or faster one sample at a time, nor
+    /// on a scalar FPU such as the Cortex-M4F's.
     #[inline]
     pub fn cast(&self, ray: &Ray) -> Sample {
         self.cast_counted(ray).0
@@ -283,9 +285,9 @@ where
     /// [`cast`](Self::cast), also returning the number of samples taken (fewer than the
     /// ray's sample count when early termination stops it). The count costs nothing when it
     /// is not used.
-    #[inline]
+    #[inline(always)]
     pub fn cast_counted(&self, ray: &Ray) -> (Sample, u32) {
-        self.isa.run(|| self.cast_counted_here(ray))
+        in_isa!(self.isa, self.cast_counted_here(ray))
     }
 
     /// [`cast_counted`](Self::cast_counted) in the instruction set of the caller.
@@ -316,6 +318,10 @@ where
         let d = self.step.d;
         let mut acc = Sample::TRANSPARENT;
         if O::FRONT_TO_BACK {
+            #[cfg(target_arch = "x86_64")]
+            if let Some(done) = self.march_one_avx2(ray, (t_first, n)) {
+                return done;
+            }
             return self.march_from(ray, corr, (t_first, n), 0, acc);
         } else {
             for j in (0..n).rev() {
@@ -411,7 +417,7 @@ where
     /// ```
     #[inline(never)]
     pub fn cast4(&self, rays: &[Ray; 4]) -> [(Sample, u32); 4] {
-        self.isa.run(|| self.cast4_here(rays))
+        in_isa!(self.isa, self.cast4_here(rays))
     }
 
     /// [`cast4`](Self::cast4) in the instruction set of the caller.
@@ -452,7 +458,7 @@ where
     /// [`Error::ImageSizeMismatch`] unless `out.len() == rays.len()`.
     pub fn cast_rays(&self, rays: &[Ray], out: &mut [Sample]) -> Result<(), Error> {
         check_len(rays.len(), out.len())?;
-        self.isa.run(|| self.cast_rays_here(rays, out));
+        in_isa!(self.isa, self.cast_rays_here(rays, out));
         Ok(())
     }
 
@@ -512,6 +518,34 @@ where
                 None => march8::<V, OPACITY_WEIGHTED>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256]),
             };
             acc.map(|a| over(a, self.background))
+        })
+    }
+
+    /// Where the eight-lane AVX2 kernel applies ([`eight_ray_packets`](Self::eight_ray_packets)),
+    /// the front-to-back march of `ray` over its samples `range` with eight consecutive
+    /// samples in the lanes (bit-identical to [`march_from`](Self::march_from) from sample 0).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn march_one_avx2(&self, ray: &Ray, range: (f32, u32)) -> Option<(Sample, u32)> {
+        use crate::arch::avx2::{
+            march_one, EXTINCTION_F32, EXTINCTION_U8, OPACITY_WEIGHTED, SEPARATE,
+        };
+        let cpu = self.isa.avx2_token()?;
+        if !self.eight_ray_packets() {
+            return None;
+        }
+        let (vol, d) = (&self.volume, self.step.d);
+        let a_stop = self.order.termination().a_stop_or_inf();
+        let none = &[0.0; 256];
+        Some(match self.mode.tau_table().map(|t| t.taus()) {
+            Some(t) => march_one::<V, EXTINCTION_U8>(cpu, vol, ray, range, d, a_stop, t),
+            None if <M as Mode<V>>::EXTINCTION => {
+                march_one::<V, EXTINCTION_F32>(cpu, vol, ray, range, d, a_stop, none)
+            }
+            None if <M as Mode<V>>::SEPARATE => {
+                march_one::<V, SEPARATE>(cpu, vol, ray, range, d, a_stop, none)
+            }
+            None => march_one::<V, OPACITY_WEIGHTED>(cpu, vol, ray, range, d, a_stop, none),
         })
     }
 
@@ -680,18 +714,20 @@ where
         height: usize,
         image: &mut [Sample],
     ) -> Result<(), Error> {
-        self.isa.run(|| {
-            if !self.eight_ray_packets() {
-                return trace_image(camera, width, height, image, |ray| {
+        in_isa!(
+            self.isa,
+            if self.eight_ray_packets() {
+                trace_rows8(camera, width, height, image, |rays, px| {
+                    check_len(rays.len(), px.len())?;
+                    self.cast_rays_here(rays, px);
+                    Ok(())
+                })
+            } else {
+                trace_image(camera, width, height, image, |ray| {
                     self.cast_counted_here(ray).0
-                });
+                })
             }
-            trace_rows8(camera, width, height, image, |rays, px| {
-                check_len(rays.len(), px.len())?;
-                self.cast_rays_here(rays, px);
-                Ok(())
-            })
-        })
+        )
     }
 }
 

@@ -883,6 +883,17 @@ fn avx2_packets_are_bit_identical_to_single_rays() {
                 for isa in Isa::available() {
                     never.with_isa(isa).cast_rays(&rays, &mut out).unwrap();
                     check(&out, &|r| base.cast(r), concat!($what, ", no termination"));
+                    // One ray at a time (eight consecutive samples in the AVX2 lanes),
+                    // sample counts included.
+                    for r in &rays {
+                        let (got, n) = never.with_isa(isa).cast_counted(r);
+                        let (want, k) = base.cast_counted(r);
+                        assert!(
+                            same_sample(&got, &want) && n == k,
+                            "{}, {isa}: {r:?}",
+                            $what
+                        );
+                    }
                 }
                 let m = RayMarcher::new(vol, $mode, Trilinear::new(), stop, step)
                     .unwrap()
@@ -896,6 +907,15 @@ fn avx2_packets_are_bit_identical_to_single_rays() {
                         &|r| base.cast(r),
                         concat!($what, ", threshold and background"),
                     );
+                    for r in &rays {
+                        let (got, n) = m.with_isa(isa).cast_counted(r);
+                        let (want, k) = base.cast_counted(r);
+                        assert!(
+                            same_sample(&got, &want) && n == k,
+                            "{}, {isa}: {r:?}",
+                            $what
+                        );
+                    }
                 }
             }};
         }

@@ -87,6 +87,7 @@
 
 use core::arch::x86_64::*;
 
+use crate::composite::front_to_back;
 use crate::mode::integrate_step;
 use crate::opacity::{PHI_POLY, PHI_POLY_BELOW};
 use crate::ray::Ray;
@@ -913,6 +914,35 @@ pub(crate) fn march8<V: Voxel, const MODE: u8>(
     out
 }
 
+/// One ray front to back over its samples `t₀ + j·d`, `j < n`, with `(t₀, n) = range`, eight
+/// consecutive samples at a time in the lanes, composited in order until `A ≥ a_stop`: the
+/// accumulated sample before the background and the number of samples composited,
+/// bit-identical to the one-ray march (`RayMarcher::cast_counted`) of the mode `MODE`, as
+/// [`march8`] (whose requirements on `V` and `vol` hold here too).
+pub(crate) fn march_one<V: Voxel, const MODE: u8>(
+    _cpu: Avx2,
+    vol: &Volume<'_, V>,
+    ray: &Ray,
+    range: (f32, u32),
+    d: f32,
+    a_stop: f32,
+    taus: &[f32; 256],
+) -> (Sample, u32) {
+    let (rays, ranges) = ([*ray; LANES], [range; LANES]);
+    // SAFETY: as in `march8`.
+    let out =
+        unsafe { march8_avx2::<V, MODE, 2, false, true>(vol, &rays, &ranges, d, a_stop, taus) };
+    let [[r, n, ..], [g, ..], [b, ..], [a, ..]] = out;
+    let f = |x: i32| f32::from_bits(x as u32);
+    (
+        Sample {
+            c: [f(r), f(g), f(b)],
+            a: f(a),
+        },
+        n as u32,
+    )
+}
+
 /// The integer `OpacityWeighted` trilinear march at `F = 8` of eight rays
 /// (`IntRayMarcher::cast_rays`): as [`march8`], with the samples `t₀ + j·d` of
 /// `ranges` (`IntRayMarcher::sample_range`) at the positions `Ray::at` computes, each
@@ -964,12 +994,12 @@ fn march8_any<V: Voxel, const MODE: u8>(
 ) -> [[i32; LANES]; 4] {
     let [r0, ..] = rays;
     if rays.iter().any(|r| r.dir() != r0.dir()) {
-        march8_avx2::<V, MODE, 2, false>(vol, rays, ranges, d, a_stop, taus)
+        march8_avx2::<V, MODE, 2, false, false>(vol, rays, ranges, d, a_stop, taus)
     } else {
         match major_axis(r0.dir()) {
-            0 => march8_avx2::<V, MODE, 0, true>(vol, rays, ranges, d, a_stop, taus),
-            1 => march8_avx2::<V, MODE, 1, true>(vol, rays, ranges, d, a_stop, taus),
-            _ => march8_avx2::<V, MODE, 2, true>(vol, rays, ranges, d, a_stop, taus),
+            0 => march8_avx2::<V, MODE, 0, true, false>(vol, rays, ranges, d, a_stop, taus),
+            1 => march8_avx2::<V, MODE, 1, true, false>(vol, rays, ranges, d, a_stop, taus),
+            _ => march8_avx2::<V, MODE, 2, true, false>(vol, rays, ranges, d, a_stop, taus),
         }
     }
 }
@@ -988,14 +1018,21 @@ fn major_axis(dir: [f32; 3]) -> usize {
 
 /// [`march8`] (or [`march8_int`]) in AVX2; where `REUSE` (parallel rays), the taps' channels
 /// kept as faces across axis `A` ([`Cell`]) and the voxels ahead prefetched. Returns the
-/// accumulated `[r, g, b, α]` lanes as bit patterns. (Not inlined: its four instances
+/// accumulated `[r, g, b, α]` lanes as bit patterns.
+///
+/// Where `ONE` ([`march_one`]), the eight lanes are eight consecutive samples of one ray
+/// instead (`rays[0]`, `ranges[0]`; lane `l` of step `j` is sample `8j + l`, at
+/// `t₀ + (8j + l)·d` as the one-ray march computes it), composited in order, one lane after
+/// the other, by `composite::front_to_back` until `A ≥ a_stop` after a sample: then lane 0 of
+/// the four arrays holds the accumulated sample and lane 1 of the first the number of samples
+/// composited. (Not inlined: its four instances
 /// inlined into `march8` slowed the reuse by about a tenth in a probe, 5.7 against 5.15
 /// ns/sample. Not returning the vectors themselves: returned through memory, they kept the
 /// accumulator there across the loop, which took the `ExtinctionWeightedU8` packets from 7.1
 /// to 8.6 ns/sample.)
 #[inline(never)]
 #[target_feature(enable = "avx2,fma")]
-fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
+fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool, const ONE: bool>(
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     ranges: &[(f32, u32); LANES],
@@ -1027,7 +1064,13 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
     ];
     let t0 = lanes(ranges.map(|r| r.0));
     let count = ranges.map(|r| r.1);
-    let steps = count.iter().copied().max().unwrap_or(0);
+    // (With `ONE`, every range is the one ray's.)
+    let [(_, samples), ..] = *ranges;
+    let steps = if ONE {
+        samples.div_ceil(LANES as u32)
+    } else {
+        count.iter().copied().max().unwrap_or(0)
+    };
     let [c0, c1, c2, c3, c4, c5, c6, c7] = count.map(|c| c as i32);
     let count = _mm256_setr_epi32(c0, c1, c2, c3, c4, c5, c6, c7);
 
@@ -1106,9 +1149,46 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
         _mm256_andnot_ps(done, _mm256_and_ps(live, more))
     };
 
+    // With `ONE`: the eight samples of step `i` (sample `8i + l` in lane `l`) composited in
+    // order onto `acc` by `composite::front_to_back`; `Some` of the number of samples
+    // composited once the ray ends or `A ≥ a_stop` (`Termination::done`).
+    let serial = |acc: &mut Sample, [r, g, b, a]: [__m256; 4], i: u32| {
+        let [r, g, b, a] = map4([r, g, b, a], |v| array(v));
+        let lanes = r.into_iter().zip(g).zip(b).zip(a);
+        for (k, (((r, g), b), a)) in (i * LANES as u32..).zip(lanes) {
+            if k >= samples {
+                return Some(samples);
+            }
+            *acc = front_to_back(*acc, Sample { c: [r, g, b], a });
+            if acc.a >= a_stop {
+                return Some(k + 1);
+            }
+        }
+        None
+    };
+    let one_result = |s: Sample, n: u32| {
+        let bits = |x: f32| x.to_bits() as i32;
+        let mut out = [[0i32; LANES]; 4];
+        let [or, og, ob, oa] = &mut out;
+        [or[0], or[1], og[0], ob[0], oa[0]] = [
+            bits(s.c[0]),
+            n as i32,
+            bits(s.c[1]),
+            bits(s.c[2]),
+            bits(s.a),
+        ];
+        out
+    };
+    let mut one_acc = Sample::TRANSPARENT;
+
     let mut acc = [zf; 4];
-    // Lanes still compositing: before their last sample and not yet stopped.
-    let mut live = _mm256_castsi256_ps(_mm256_cmpgt_epi32(count, zero));
+    // Lanes still compositing: before their last sample and not yet stopped (with `ONE`,
+    // all of them while the ray has samples; `serial` stops it).
+    let mut live = if ONE {
+        _mm256_castsi256_ps(_mm256_set1_epi32(if samples > 0 { -1 } else { 0 }))
+    } else {
+        _mm256_castsi256_ps(_mm256_cmpgt_epi32(count, zero))
+    };
     let mut cell = Cell::<A>::new();
     // The extinction modes only: the sums of the [`LAG`] steps before, finished and
     // composited after this step's sums, oldest first (software pipelining: the step's long
@@ -1118,8 +1198,15 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
     let mut pending = [[zf; 4]; LAG as usize];
     let mut j = 0u32;
     while j < steps && _mm256_movemask_ps(live) != 0 {
-        // The sample position, as `Ray::at(t_first + j·d)`.
-        let t = _mm256_add_ps(t0, _mm256_mul_ps(_mm256_set1_ps(j as f32), dv));
+        // The sample position, as `Ray::at(t_first + j·d)` (with `ONE`, of sample `8j + l` in
+        // lane `l`: every index below `2^24`, `MAX_SAMPLES_PER_RAY`, so exact as an `f32`).
+        let t = if ONE {
+            let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+            let jv = _mm256_add_epi32(_mm256_set1_epi32((j * LANES as u32) as i32), lane);
+            _mm256_add_ps(t0, _mm256_mul_ps(_mm256_cvtepi32_ps(jv), dv))
+        } else {
+            _mm256_add_ps(t0, _mm256_mul_ps(_mm256_set1_ps(j as f32), dv))
+        };
         // Per axis: the fraction `p − ⌊p⌋`, the two tap coordinates clamped into the grid, and
         // the coordinate `PREFETCH_STEPS` steps ahead (truncated: only a prefetch address).
         let split = |(o, d, last, n, ahead): (__m256, __m256, __m256i, __m256, __m256)| {
@@ -1295,8 +1382,14 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
         } else {
             s
         };
-        acc = over(acc, finish(s), live);
-        live = still(&acc, live, j - lag);
+        if ONE {
+            if let Some(n) = serial(&mut one_acc, finish(s), j - lag) {
+                return one_result(one_acc, n);
+            }
+        } else {
+            acc = over(acc, finish(s), live);
+            live = still(&acc, live, j - lag);
+        }
         j += 1;
     }
     // The pipelined samples left (`j − lag` to `j − 1`, of those that exist), where a lane is
@@ -1305,11 +1398,18 @@ fn march8_avx2<V: Voxel, const MODE: u8, const A: usize, const REUSE: bool>(
         let first = j.saturating_sub(lag);
         let left = pending.iter().skip((LAG - (j - first)) as usize);
         for (i, s) in (first..j).zip(left) {
-            if _mm256_movemask_ps(live) != 0 {
+            if ONE {
+                if let Some(n) = serial(&mut one_acc, finish(*s), i) {
+                    return one_result(one_acc, n);
+                }
+            } else if _mm256_movemask_ps(live) != 0 {
                 acc = over(acc, finish(*s), live);
                 live = still(&acc, live, i);
             }
         }
+    }
+    if ONE {
+        return one_result(one_acc, samples);
     }
     let [r, g, b, a] = acc;
     let bits = |v: __m256| to_i32s(_mm256_castps_si256(v));

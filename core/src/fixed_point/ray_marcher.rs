@@ -26,7 +26,7 @@
 use super::composite::{front_to_back, IntStop};
 use super::DEFAULT_FRAC_BITS;
 use super::{check_frac_bits, IntCorrection, IntFilter, IntMode, IntPos, IntSample, IntSampler};
-use crate::arch::Isa;
+use crate::arch::{in_isa, Isa};
 use crate::error::Error;
 use crate::ray::{Camera, Ray};
 use crate::render::{check_len, trace_image, trace_rows8};
@@ -283,7 +283,7 @@ where
     /// ray's sample count when early termination stops it).
     #[inline]
     pub fn cast_counted(&self, ray: &Ray) -> (IntSample, u32) {
-        self.isa.run(|| self.cast_counted_here(ray))
+        in_isa!(self.isa, self.cast_counted_here(ray))
     }
 
     /// [`cast_counted`](Self::cast_counted) in the instruction set of the caller.
@@ -433,7 +433,7 @@ where
     /// [`Error::ImageSizeMismatch`] unless `out.len() == rays.len()`.
     pub fn cast_rays(&self, rays: &[Ray], out: &mut [IntSample]) -> Result<(), Error> {
         check_len(rays.len(), out.len())?;
-        self.isa.run(|| self.cast_rays_here(rays, out));
+        in_isa!(self.isa, self.cast_rays_here(rays, out));
         Ok(())
     }
 
@@ -528,17 +528,19 @@ where
         height: usize,
         image: &mut [IntSample],
     ) -> Result<(), Error> {
-        self.isa.run(|| {
-            if !self.eight_ray_packets() {
-                return trace_image(camera, width, height, image, |ray| {
+        in_isa!(
+            self.isa,
+            if self.eight_ray_packets() {
+                trace_rows8(camera, width, height, image, |rays, px| {
+                    check_len(rays.len(), px.len())?;
+                    self.cast_rays_here(rays, px);
+                    Ok(())
+                })
+            } else {
+                trace_image(camera, width, height, image, |ray| {
                     self.cast_counted_here(ray).0
-                });
+                })
             }
-            trace_rows8(camera, width, height, image, |rays, px| {
-                check_len(rays.len(), px.len())?;
-                self.cast_rays_here(rays, px);
-                Ok(())
-            })
-        })
+        )
     }
 }
