@@ -42,6 +42,7 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
     ///
     /// [`RayMarcher::cast4`]: crate::RayMarcher::cast4
     /// [`RayMarcher::cast`]: crate::RayMarcher::cast
+    #[doc(hidden)]
     const PACKETS: bool = true;
 
     /// `true` for [`Trilinear`]`<`[`WeightedSum`]`>`, the filter of the eight-ray lane kernel
@@ -61,6 +62,7 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
     /// [`RayMarcher::cast4`](crate::RayMarcher::cast4)). The default runs `interpolate` per
     /// lane; [`Trilinear`] gathers per lane and computes weights and sums in lanes.
     #[inline(always)]
+    #[doc(hidden)]
     fn interpolate_x4<V: Voxel, M: Mode<V>>(
         mode: &M,
         vol: &Volume<'_, V>,

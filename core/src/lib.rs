@@ -22,6 +22,9 @@
 //!   every build and run where the CPU has them ([`Isa::detect`], at a marcher's
 //!   construction; `with_isa` forces one); elsewhere only the portable code is linked.
 //!
+//! Items marked `#[doc(hidden)]` (the lane kernels' trait methods and flags, `cast4`, the
+//! `lanes` module) are internals shared with the host tests, not part of the API.
+//!
 //! Every choice is a type, so a pipeline contains only the stages its scene uses. Inputs are
 //! validated once, at construction, into [`Error`] values; the kernels cannot panic, allocate
 //! or touch global state.
@@ -60,6 +63,7 @@ pub mod error;
 pub mod filter;
 #[forbid(unsafe_code)]
 pub mod fixed_point;
+#[doc(hidden)]
 #[forbid(unsafe_code)]
 pub mod lanes;
 #[forbid(unsafe_code)]
@@ -87,6 +91,23 @@ pub mod voxel;
 
 pub use arch::Isa;
 pub use composite::{BackToFront, FrontToBack, Never, Threshold};
+pub use fixed_point::{IntSample, IntStop};
+
+/// The integer ray marcher ([`fixed_point::IntRayMarcher`]) at the default `F = 8`
+/// fractional position bits, so that `IntRayMarcher::new(…)` needs no turbofish; for another
+/// `F`, `fixed_point::IntRayMarcher::<_, _, _, F>::new(…)`.
+///
+/// ```
+/// use volsample::{IntRayMarcher, IntStop, OpacityWeighted, Ray, Step, StraightU8, Trilinear, Volume};
+/// let voxels = [StraightU8([255, 128, 0, 200]); 8];
+/// let vol = Volume::new(&voxels, [2, 2, 2])?;
+/// let m = IntRayMarcher::new(vol, OpacityWeighted, Trilinear::new(), IntStop::NEVER, Step::new(0.5)?)?;
+/// let s = m.cast(&Ray::new([0.5, 0.5, -1.0], [0.0, 0.0, 1.0])?);
+/// assert!(s.a() > 0 && s.c()[2] == 0);
+/// # Ok::<(), volsample::Error>(())
+/// ```
+pub type IntRayMarcher<'v, V, M, Fl> =
+    fixed_point::IntRayMarcher<'v, V, M, Fl, { fixed_point::DEFAULT_FRAC_BITS }, skip::NoSkip>;
 pub use error::Error;
 pub use filter::{Filter, Nearest, Tree, Trilinear, TriquadraticBSpline, WeightedSum};
 pub use mode::{ExtinctionWeighted, Mode, OpacityWeighted, PostClassified, Preweighted, Separate};

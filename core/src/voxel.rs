@@ -50,6 +50,7 @@ pub trait Voxel: Copy {
     /// ([`StraightF32`], [`AssociatedF32`]): a tap is then a four-lane vector as it is, and
     /// the ray marcher keeps computing the opacity-based trilinear samples one at a time (in
     /// `volsample report` four in lanes ran 1.06–1.13× slower for them). `false` by default.
+    #[doc(hidden)]
     const F32_CHANNELS: bool = false;
 
     /// `true` for straight RGBA bytes read as `n/255` ([`StraightU8`]), whose
@@ -58,11 +59,13 @@ pub trait Voxel: Copy {
     /// voxels as 32-bit words. A format that sets it must read as
     /// `StraightVoxel::straight` = `rgba8` bytes over 255, correctly rounded. `false` by
     /// default.
+    #[doc(hidden)]
     const STRAIGHT_RGBA8: bool = false;
 
     /// The voxel's `[r, g, b, a]` bytes where [`STRAIGHT_RGBA8`](Self::STRAIGHT_RGBA8) is
     /// `true`; all zero (never read) otherwise.
     #[inline(always)]
+    #[doc(hidden)]
     fn rgba8(self) -> [u8; 4] {
         [0; 4]
     }

@@ -78,6 +78,7 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     /// path; on baseline x86-64 the compiler still emits scalar code for it). The default is
     /// `weighted` itself.
     #[inline(always)]
+    #[doc(hidden)]
     fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
         self.weighted(taps, w)
     }
@@ -97,6 +98,7 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     /// `weighted8_f32` of cell `l`. The default runs `weighted8_f32` lane by lane; the modes
     /// with a sum of weighted products run the same generic sums on [`F32x4`].
     #[inline(always)]
+    #[doc(hidden)]
     fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
         let weights = unpack(*w);
         let cells = lane_taps(taps);
@@ -111,6 +113,7 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     /// color, `a` the opacity) is bit-identical to `finish` of lane `l` (up to the sign of a
     /// zero, see [`F32x4::clamp_to`]). The default runs `finish` lane by lane.
     #[inline(always)]
+    #[doc(hidden)]
     fn finish_x4(&self, i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
         let lanes = unpack_interp(i).map(|x| {
             let s = self.finish(x, d);

@@ -31,6 +31,11 @@ use crate::skip::{Emptiness, NoSkip, Occupancy, Skipping};
 use crate::volume::Volume;
 use crate::voxel::Voxel;
 
+mod image;
+mod packets;
+
+pub(crate) use image::{check_len, trace_image, trace_rows8};
+
 /// Most samples one ray may take (2²⁴, so every sample index is exact in `f32`).
 pub const MAX_SAMPLES_PER_RAY: usize = 1 << 24;
 
@@ -416,6 +421,7 @@ where
     /// # Ok::<(), volsample::Error>(())
     /// ```
     #[inline(never)]
+    #[doc(hidden)]
     pub fn cast4(&self, rays: &[Ray; 4]) -> [(Sample, u32); 4] {
         in_isa!(self.isa, self.cast4_here(rays))
     }
@@ -477,204 +483,6 @@ where
         for (r, o) in r4.remainder().iter().zip(o4.into_remainder()) {
             *o = self.cast_counted_here(r).0;
         }
-    }
-
-    /// Where the eight-ray AVX2 kernel applies (an AVX2 [`Isa`] and an `OpacityWeighted`,
-    /// `Separate` or `ExtinctionWeightedU8` marcher over straight RGBA8 or an
-    /// `ExtinctionWeighted` one over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to back
-    /// without correction or skipping), casts the leading multiple of eight rays with it and
-    /// returns the rest; otherwise returns all of them.
-    #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
-    fn cast_rays8<'r, 'o>(
-        &self,
-        rays: &'r [Ray],
-        out: &'o mut [Sample],
-    ) -> (&'r [Ray], &'o mut [Sample]) {
-        use crate::arch::avx2::{
-            in_packets, march8, EXTINCTION_F32, EXTINCTION_U8, OPACITY_WEIGHTED, SEPARATE,
-        };
-        let separate = <M as Mode<V>>::SEPARATE;
-        let extinction = <M as Mode<V>>::EXTINCTION;
-        let taus = self.mode.tau_table().map(|t| t.taus());
-        let Some(cpu) = self.isa.avx2_token() else {
-            return (rays, out);
-        };
-        if !self.eight_ray_packets() {
-            return (rays, out);
-        }
-        let a_stop = self.order.termination().a_stop_or_inf();
-        in_packets(rays, out, |r| {
-            let ranges = r.each_ref().map(|r| self.samples(r));
-            let (vol, d) = (&self.volume, self.step.d);
-            let acc = match taus {
-                Some(t) => march8::<V, EXTINCTION_U8>(cpu, vol, r, &ranges, d, a_stop, t),
-                None if extinction => {
-                    march8::<V, EXTINCTION_F32>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256])
-                }
-                None if separate => {
-                    march8::<V, SEPARATE>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256])
-                }
-                None => march8::<V, OPACITY_WEIGHTED>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256]),
-            };
-            acc.map(|a| over(a, self.background))
-        })
-    }
-
-    /// Where the eight-lane AVX2 kernel applies ([`eight_ray_packets`](Self::eight_ray_packets)),
-    /// the front-to-back march of `ray` over its samples `range` with eight consecutive
-    /// samples in the lanes (bit-identical to [`march_from`](Self::march_from) from sample 0).
-    #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
-    fn march_one_avx2(&self, ray: &Ray, range: (f32, u32)) -> Option<(Sample, u32)> {
-        use crate::arch::avx2::{
-            march_one, EXTINCTION_F32, EXTINCTION_U8, OPACITY_WEIGHTED, SEPARATE,
-        };
-        let cpu = self.isa.avx2_token()?;
-        if !self.eight_ray_packets() {
-            return None;
-        }
-        let (vol, d) = (&self.volume, self.step.d);
-        let a_stop = self.order.termination().a_stop_or_inf();
-        let none = &[0.0; 256];
-        Some(match self.mode.tau_table().map(|t| t.taus()) {
-            Some(t) => march_one::<V, EXTINCTION_U8>(cpu, vol, ray, range, d, a_stop, t),
-            None if <M as Mode<V>>::EXTINCTION => {
-                march_one::<V, EXTINCTION_F32>(cpu, vol, ray, range, d, a_stop, none)
-            }
-            None if <M as Mode<V>>::SEPARATE => {
-                march_one::<V, SEPARATE>(cpu, vol, ray, range, d, a_stop, none)
-            }
-            None => march_one::<V, OPACITY_WEIGHTED>(cpu, vol, ray, range, d, a_stop, none),
-        })
-    }
-
-    /// Whether the eight-ray AVX2 kernel applies to this marcher (an AVX2 [`Isa`] and an
-    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8` marcher over straight RGBA8 or
-    /// an `ExtinctionWeighted` one over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to
-    /// back without correction or skipping, over a volume it can index).
-    #[inline]
-    fn eight_ray_packets(&self) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        {
-            let rgba8 = V::STRAIGHT_RGBA8
-                && (<M as Mode<V>>::OPACITY_WEIGHTED
-                    || <M as Mode<V>>::SEPARATE
-                    || self.mode.tau_table().is_some());
-            let extinction_f32 =
-                <M as Mode<V>>::EXTINCTION && V::as_extinction_f32(self.volume.data()).is_some();
-            (rgba8 || extinction_f32)
-                && F::TRILINEAR_WEIGHTED_SUM
-                && O::FRONT_TO_BACK
-                && !S::SKIPS
-                && self.correction.is_none()
-                && self.isa.avx2_token().is_some()
-                && crate::arch::avx2::fits(&self.volume)
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        {
-            false
-        }
-    }
-
-    /// Without the eight-ray kernel: all of `rays` go to the four-ray packets.
-    #[cfg(not(target_arch = "x86_64"))]
-    #[inline(always)]
-    fn cast_rays8<'r, 'o>(
-        &self,
-        rays: &'r [Ray],
-        out: &'o mut [Sample],
-    ) -> (&'r [Ray], &'o mut [Sample]) {
-        (rays, out)
-    }
-
-    /// The packet form of [`march`](Self::march) (front to back only): the accumulated
-    /// samples (before the background) and the sample counts.
-    #[inline(always)]
-    fn march4<C: Correction>(&self, rays: &[Ray; 4], corr: &C) -> ([Sample; 4], [u32; 4]) {
-        let ranges = rays.each_ref().map(|r| self.samples(r));
-        let n = ranges.map(|r| r.1);
-        let d = self.step.d;
-        let term = self.order.termination();
-        let mut acc = Interp {
-            c: [F32x4::ZERO; 3],
-            a: F32x4::ZERO,
-        };
-        let mut count = n;
-        let mut live = n.map(|k| k > 0);
-        let mut j = 0u32;
-        while live.iter().any(|&l| l) {
-            let jd = j as f32 * d;
-            let mut pos = [[0.0f32; 3]; 4];
-            let mut active = [false; 4];
-            for (((p, a), (r, &(t_first, _))), &l) in pos
-                .iter_mut()
-                .zip(active.iter_mut())
-                .zip(rays.iter().zip(ranges.iter()))
-                .zip(live.iter())
-            {
-                if l {
-                    *p = r.at(t_first + jd);
-                    // A skipped sample is transparent: the lane's `acc` and its termination
-                    // test are unchanged by it, as in `march`.
-                    *a = !self.skip.empty(*p);
-                }
-            }
-            if let Some(fill) = pos.iter().zip(active).find(|x| x.1).map(|x| *x.0) {
-                // Idle lanes sample an active lane's position; their result is discarded.
-                for (p, a) in pos.iter_mut().zip(active) {
-                    if !a {
-                        *p = fill;
-                    }
-                }
-                let i = F::interpolate_x4(&self.mode, &self.volume, pos);
-                let s = corr.apply_x4(self.mode.finish_x4(i, d));
-                // `front_to_back` in lanes, kept only in the active lanes.
-                let t = F32x4::ONE - acc.a;
-                let [r, g, b] = acc.c;
-                let [sr, sg, sb] = s.c;
-                acc = Interp {
-                    c: [
-                        F32x4::select(active, r + t * sr, r),
-                        F32x4::select(active, g + t * sg, g),
-                        F32x4::select(active, b + t * sb, b),
-                    ],
-                    a: F32x4::select(active, acc.a + t * s.a, acc.a),
-                };
-                let a = acc.a.to_array();
-                for (((l, k), a), &act) in live.iter_mut().zip(count.iter_mut()).zip(a).zip(&active)
-                {
-                    if act && term.done(a) {
-                        *l = false;
-                        *k = j + 1;
-                    }
-                }
-            }
-            j += 1;
-            for (l, &k) in live.iter_mut().zip(&n) {
-                if j >= k {
-                    *l = false;
-                }
-            }
-            if live.iter().filter(|&&l| l).count() == 1 {
-                break;
-            }
-        }
-        let mut samples = unpack_interp(acc).map(|x| Sample { c: x.c, a: x.a });
-        // The last ray still going (rays of a packet differ in length) finishes one sample at
-        // a time, from the sample and the `acc` it reached: the same operations as in its
-        // lane, without carrying three idle lanes through its remaining samples.
-        for (((s, k), &l), (ray, &range)) in samples
-            .iter_mut()
-            .zip(count.iter_mut())
-            .zip(&live)
-            .zip(rays.iter().zip(&ranges))
-        {
-            if l {
-                (*s, *k) = self.march_from(ray, corr, range, j, *s);
-            }
-        }
-        (samples, count)
     }
 
     /// How many rays [`cast_rays`](Self::cast_rays) marches at once in lanes: 8 where this
@@ -752,82 +560,4 @@ const SAMPLE_LANES: bool = cfg!(any(
 /// f32 extinction 0.95, `OpacityWeighted` over `StraightF32` 1.13.
 const fn sample_lanes<V: Voxel, M: Mode<V>, F: Filter>() -> bool {
     SAMPLE_LANES && F::PACKETS && !(V::F32_CHANNELS && M::OPACITY_BASED && F::TAPS == 8)
-}
-
-/// [`Error::ImageSizeMismatch`] unless `actual == expected`.
-pub(crate) fn check_len(expected: usize, actual: usize) -> Result<(), Error> {
-    if actual == expected {
-        Ok(())
-    } else {
-        Err(Error::ImageSizeMismatch { expected, actual })
-    }
-}
-
-/// Checks an image buffer: [`Error::EmptyImage`] for a zero width or height,
-/// [`Error::ImageSizeMismatch`] unless `len == width·height`.
-fn check_image(width: usize, height: usize, len: usize) -> Result<(), Error> {
-    if width == 0 || height == 0 {
-        return Err(Error::EmptyImage);
-    }
-    let expected = width.checked_mul(height).ok_or(Error::ImageSizeMismatch {
-        expected: usize::MAX,
-        actual: len,
-    })?;
-    if len != expected {
-        return Err(Error::ImageSizeMismatch {
-            expected,
-            actual: len,
-        });
-    }
-    Ok(())
-}
-
-/// Fills a `width × height` image (row-major, row 0 at the top) by `cast_rays` of eight
-/// pixels of a row at a time (a short last chunk of a row: its own pixels only), after
-/// checking the image size: the eight-ray packets' pixel loop of both ray marchers.
-///
-/// # Errors
-/// As [`trace_image`], and those of `cast_rays`.
-pub(crate) fn trace_rows8<P, Cam: Camera>(
-    camera: &Cam,
-    width: usize,
-    height: usize,
-    image: &mut [P],
-    mut cast_rays: impl FnMut(&[Ray], &mut [P]) -> Result<(), Error>,
-) -> Result<(), Error> {
-    check_image(width, height, image.len())?;
-    for (j, row) in image.chunks_exact_mut(width).enumerate() {
-        for (k, px) in row.chunks_mut(8).enumerate() {
-            let i0 = 8 * k;
-            // A short last chunk repeats its last pixel's ray; only `px.len()` are cast.
-            let rays: [Ray; 8] =
-                core::array::from_fn(|l| camera.ray((i0 + l).min(width - 1), j, width, height));
-            let rays = rays.get(..px.len()).unwrap_or(&rays);
-            cast_rays(rays, px)?;
-        }
-    }
-    Ok(())
-}
-
-/// Fills a `width × height` image (row-major, row 0 at the top) with `cast` of each pixel's
-/// ray, after checking the image size: the pixel loop shared by the float and the integer
-/// ray marchers.
-///
-/// # Errors
-/// [`Error::EmptyImage`] for a zero width or height, [`Error::ImageSizeMismatch`] unless
-/// `image.len() == width·height`.
-pub(crate) fn trace_image<P, Cam: Camera>(
-    camera: &Cam,
-    width: usize,
-    height: usize,
-    image: &mut [P],
-    cast: impl Fn(&Ray) -> P,
-) -> Result<(), Error> {
-    check_image(width, height, image.len())?;
-    for (j, row) in image.chunks_exact_mut(width).enumerate() {
-        for (i, px) in row.iter_mut().enumerate() {
-            *px = cast(&camera.ray(i, j, width, height));
-        }
-    }
-    Ok(())
 }

@@ -1,0 +1,352 @@
+//! The AVX2 + FMA instance: the [`Avx2`] token and its entry ([`Avx2::run`], which compiles
+//! the portable kernels inlined into it for AVX2), and eight rays in the eight `f32` lanes of
+//! AVX2 vectors: the packet kernel of
+//! [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) for `OpacityWeighted`, `Separate`
+//! and `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of straight RGBA8 voxels,
+//! and `ExtinctionWeighted` of [`ExtinctionF32`] voxels ([`EXTINCTION_F32`]), front to back,
+//! without opacity correction or empty-space skipping; and, in `i32` lanes, that of
+//! [`IntRayMarcher::cast_rays`](crate::fixed_point::IntRayMarcher::cast_rays) for the integer
+//! `OpacityWeighted` trilinear pipeline at `F = 8` ([`march8_int`], [`int_sums`]).
+//!
+//! Compiled into every x86-64 build; entered only with an [`Avx2`] token, which only
+//! [`Avx2::detect`] makes (CPUID: AVX2, FMA, and the OS saving the 256-bit registers; every
+//! AVX2 CPU of Intel and AMD has FMA). Elsewhere `cast_rays` keeps its portable four-ray
+//! packets (the integer one casts one ray at a time). Inside the
+//! `#[target_feature(enable = "avx2,fma")]` functions the value intrinsics of `core::arch`
+//! are safe functions; the entries ([`Avx2::run`], [`march8`], [`march8_int`]) call them in an
+//! `unsafe` block whose proof is the token. Five more `unsafe` blocks, each with its
+//! proof: the bit casts between an integer vector and `[i32; 8]` (`to_i32s`, `from_i32s`),
+//! the unchecked voxel loads of [`Taps::load`], taken only after one vector test per read
+//! has shown all 64 tap indices inside the data (eight scalar loads per tap; a gather
+//! instruction was slower on the machine measured), those of [`Taps::load_f32x4`] (16-byte
+//! `ExtinctionF32` voxels, after the same test), and the unchecked 8-byte loads of
+//! [`Taps::load_pair`].
+//!
+//! **Pair reads**: where no lane's x taps are clamped together (at the grid's x edges), each
+//! lane's taps `k` and `k + 1` are neighbours in memory, and for [`StraightU8`] voxels one
+//! 8-byte load reads both (four such loads and two shuffles make two taps' vectors, for
+//! sixteen 4-byte loads and inserts); the test is a dozen vector operations per read. Faces
+//! across y or z are two such pairs; faces across x (x-major parallel rays) none. In a probe
+//! this took perspective packets from 8.4–11.0 to 7.4–7.6 ns/sample.
+//!
+//! **Bit-identical to [`RayMarcher::cast`](crate::RayMarcher::cast)** per ray: each lane
+//! performs the one-ray kernel's `f32` operations in the same order — `t = t₀ + j·d`,
+//! `p = o + dir·t`, `⌊p⌋` and the fraction `p − ⌊p⌋`, the taps' coordinates clamped into
+//! the grid, the trilinear weights of `filter::trilinear_weights`, the mode's sums from the
+//! last tap to the first (`ω = w·α`, `Σ ω·C`, `Σ ω` for `OpacityWeighted`; `Σ w·C`, `Σ w·α`
+//! and `C̃ = α·C` for `Separate`; `Σ w·C^τ`, `Σ w·τ` with `τ` from the `TauTable` and
+//! `integrate_step` for `ExtinctionWeightedU8` (and the same sums and step of the stored
+//! `[C^τ, τ]` for `ExtinctionWeighted` over `ExtinctionF32`), its polynomial `φ` in lanes
+//! where every lane's `τd` is below 1, else per lane), the clamps, and the front-to-back
+//! step — with no fused multiply-add (IEEE `+`, `−`, `×`, `÷` round the same in any unit).
+//! A byte `n` becomes the correctly rounded `n/255` of the table the one-ray kernel reads as
+//! `n·h + (n·l)` with `1/255 = h + l` split into two `f32` (one product, one fused
+//! multiply-add), which is the rounded quotient for every byte (a unit test here checks all
+//! 256).
+//! `tests/fast_paths.rs` compares `cast_rays` in every instruction set the CPU has with the
+//! baseline `cast`, bit for bit.
+//!
+//! **The integer pipeline** ([`march8_int`], `INTEGER_OW`) is bit-identical to
+//! [`IntRayMarcher::cast`](crate::fixed_point::IntRayMarcher::cast) the same way: the
+//! positions are the float marcher's, each clamped into `[0, n − 1]` and quantized with
+//! round half up to 8 fractional bits (exactly, in `f32`, for volumes up to `2^14` voxels
+//! per axis: [`quantize8`]); the taps' bytes stay integers, two neighbours' packed into
+//! 16-bit halves as `α·C − 2^15` and `α` ([`int_pair`], kept so by the reuse); [`int_sums`]
+//! forms `OpacityWeighted`'s exact sums axis by axis, the first by `vpmaddwd`, the second in
+//! `u32` lanes and the last axis's color sums in 64-bit lanes (the widths are in its doc), and
+//! rounds them as the portable kernel does;
+//! compositing is `fixed_point::front_to_back` (`T·x + ONE/2` in a `u32` lane, the quotient by
+//! `ONE` with [`div65280`]), and a lane stops once `A ≥ A_stop`. Unit tests here check
+//! `int_sums` against `IntMode::combine`, `div65280` for every `u32` and `quantize8` for every
+//! `f32` it takes; `tests/fast_paths.rs` compares `cast_rays` with `cast`. In a probe (the
+//! bench's 256³ volume and coherent rays) the first version took 5.1–5.2 ns/sample, against
+//! 18.5 for the integer `cast` and 4.5 for the float packets; computing each lerp as
+//! `(256 − f)·a + f·b` (two products, one sum, where `256·a + f·(b − a)` took four
+//! operations), the quantization by a truncation, and the last axis's color sums in 64-bit
+//! lanes (16 operations per color where a split into two 32-bit lerps took 19) brought it to
+//! 4.64–4.67; the whole sample's arithmetic costs about 1.5 ns/sample of it (a probe that
+//! skipped it ran at 3.2). The quantization by one fused multiply-add took it to 4.62, the
+//! first axis by `vpmaddwd` to 4.40 (0.96 of the float packets).
+//!
+//! **Reuse and prefetch for parallel rays** (the same values, so the same results): where
+//! the eight rays have one direction (an orthographic view), their lanes move from cell to
+//! cell together, and the taps' channels are kept between steps. When every lane is still in
+//! the cell of the last step (at step 0.5 a ray stays in a cell for about two samples) nothing
+//! is read or converted; when every lane has moved on by one cell along the packet's major
+//! axis (that of the direction's largest component), the four taps of the cell's far face
+//! become the near face and only the new far face is read. Each step also prefetches, for
+//! lanes 0 and 7, the tap rows of the sample [`PREFETCH_STEPS`] steps ahead (along y or z
+//! the two on the near side of the major axis, whose far rows are near rows a cell further
+//! on; along x all four): without it, the reads that remain (behind the reuse's branches)
+//! wait on memory; a prefetch never faults, so its address needs no bounds check. On the
+//! 256³ bench this took the packets from 7.4 to about 5.15 ns/sample (with all four rows,
+//! four steps ahead; two rows six steps ahead took a probe from 4.87–4.89 to 4.51–4.52).
+//! Rays of different directions (a perspective view) leave their cells at different steps;
+//! there the reuse cost a quarter more time in a probe (10.4 against 8.3 ns/sample), so such
+//! packets read and convert every tap at every step.
+
+use core::arch::x86_64::*;
+
+use crate::composite::front_to_back;
+use crate::mode::integrate_step;
+use crate::opacity::{PHI_POLY, PHI_POLY_BELOW};
+use crate::ray::Ray;
+use crate::sample::Sample;
+use crate::volume::Volume;
+use crate::voxel::{ExtinctionF32, StraightU8, Voxel};
+
+mod kernel;
+mod lanes;
+mod sums;
+mod taps;
+#[cfg(test)]
+mod tests;
+
+use kernel::*;
+use lanes::*;
+use sums::*;
+use taps::*;
+
+/// Proof that this CPU runs AVX2 and FMA instructions: made only by [`detect`](Self::detect).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub(crate) struct Avx2(());
+
+impl Avx2 {
+    /// The token, where CPUID says the CPU has AVX2 and FMA and the operating system saves
+    /// the AVX registers (XCR0 bits 1 and 2, read with XGETBV where CPUID says the OS enabled
+    /// it, OSXSAVE).
+    pub(crate) fn detect() -> Option<Self> {
+        // Leaf 1, ECX: bit 12 FMA, bit 27 OSXSAVE, bit 28 AVX; leaf 7 sub-leaf 0, EBX: bit 5
+        // AVX2 (Intel SDM vol. 2A, CPUID; AMD APM vol. 3, appendix E).
+        if __cpuid(0).eax < 7 {
+            return None;
+        }
+        let ecx = __cpuid(1).ecx;
+        let bit = |r: u32, b: u32| r & (1 << b) != 0;
+        if !(bit(ecx, 12) && bit(ecx, 27) && bit(ecx, 28)) {
+            return None;
+        }
+        // SAFETY: XGETBV needs the OS to have set CR4.OSXSAVE, which CPUID.1:ECX.OSXSAVE
+        // (bit 27, tested above) reports.
+        let xcr0 = unsafe { xcr0() };
+        let ebx = __cpuid_count(7, 0).ebx;
+        (xcr0 & 0b110 == 0b110 && bit(ebx, 5)).then_some(Avx2(()))
+    }
+
+    /// Runs `f` inside a function compiled for AVX2 and FMA, into which `f` and the
+    /// `#[inline(always)]` code it calls are inlined.
+    #[inline(always)]
+    pub(crate) fn run<R>(self, f: impl FnOnce() -> R) -> R {
+        // SAFETY: `self` exists only where `detect` found AVX2 and FMA on this CPU.
+        unsafe { run_avx2(f) }
+    }
+}
+
+/// XCR0, the register of the state components the OS saves.
+///
+/// # Safety
+/// The OS must have enabled XGETBV (CPUID.1:ECX.OSXSAVE).
+#[target_feature(enable = "xsave")]
+unsafe fn xcr0() -> u64 {
+    // SAFETY: the caller's contract: XGETBV is enabled; 0 is the index of XCR0.
+    unsafe { _xgetbv(0) }
+}
+
+/// `f()`, compiled for AVX2 and FMA ([`Avx2::run`]).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn run_avx2<R>(f: impl FnOnce() -> R) -> R {
+    f()
+}
+
+/// How many steps ahead each step prefetches the voxels (of lanes 0 and 7: in a packet of a
+/// row of pixels the others lie between them).
+const PREFETCH_STEPS: f32 = 6.0;
+
+/// Rays per packet.
+pub(crate) const LANES: usize = 8;
+
+/// How many steps the extinction modes' compositing lags behind their sums (see the
+/// pipelining in [`march8_avx2`]). A lag of 1 took `ExtinctionWeightedU8` from 7.8 to 7.1
+/// ns/sample in a probe; 2 gained nothing (6.3–7.9 against 6.3–6.5, both modes).
+const LAG: u32 = 1;
+
+/// The modes the kernel computes (its `MODE` parameter): `OpacityWeighted`, `Separate`, and
+/// `ExtinctionWeightedU8` (its `τ` looked up per tap, `ExtinctionWeighted`'s sums and step).
+pub(crate) const OPACITY_WEIGHTED: u8 = 0;
+/// See [`OPACITY_WEIGHTED`].
+pub(crate) const SEPARATE: u8 = 1;
+/// See [`OPACITY_WEIGHTED`].
+pub(crate) const EXTINCTION_U8: u8 = 2;
+/// The integer `OpacityWeighted` kernel at `F = 8` (`fixed_point`, [`march8_int`]): its
+/// channels, sums and compositing in `i32` lanes (carried in the kernel's `__m256` values
+/// as bit patterns).
+pub(crate) const INTEGER_OW: u8 = 3;
+/// `ExtinctionWeighted` over [`ExtinctionF32`] voxels: each tap's `[C^τ, τ]` read as one
+/// 16-byte vector per lane, then `EXTINCTION_U8`'s sums and step.
+pub(crate) const EXTINCTION_F32: u8 = 4;
+
+/// Whether `MODE` is one of the extinction modes ([`EXTINCTION_U8`], [`EXTINCTION_F32`]),
+/// whose samples are integrated over the step (`integrate_step`).
+const fn extinction(mode: u8) -> bool {
+    mode == EXTINCTION_U8 || mode == EXTINCTION_F32
+}
+
+/// Marches the leading multiple of eight rays of `rays` by `march` (eight rays to their eight
+/// results) into `out`, and returns the rays and outputs left (fewer than eight; all of them
+/// if `out` is not as long as `rays`).
+#[inline]
+pub(crate) fn in_packets<'r, 'o, P>(
+    rays: &'r [Ray],
+    out: &'o mut [P],
+    mut march: impl FnMut(&[Ray; LANES]) -> [P; LANES],
+) -> (&'r [Ray], &'o mut [P]) {
+    if out.len() != rays.len() {
+        return (rays, out);
+    }
+    let whole = rays.len() / LANES * LANES;
+    let (r8, rest) = rays.split_at(whole);
+    let (o8, out_rest) = out.split_at_mut(whole);
+    for (r, o) in r8.chunks_exact(LANES).zip(o8.chunks_exact_mut(LANES)) {
+        if let (Ok(r), Ok(o)) = (<&[Ray; LANES]>::try_from(r), <&mut [P; LANES]>::try_from(o)) {
+            *o = march(r);
+        }
+    }
+    (rest, out_rest)
+}
+
+/// Whether the kernel can index `vol` with `i32` lanes.
+#[inline(always)]
+pub(crate) fn fits<V: Voxel>(vol: &Volume<'_, V>) -> bool {
+    vol.data().len() <= i32::MAX as usize
+}
+
+/// Marches eight rays front to back, lane `l` over the samples `t₀ + j·d`, `j < n`, with
+/// `(t₀, n) = ranges[l]`, stopping a lane once its `A ≥ a_stop`: the accumulated samples
+/// before the background, bit-identical to the one-ray march of the mode `MODE`
+/// ([`OPACITY_WEIGHTED`], [`SEPARATE`], or [`EXTINCTION_U8`] with the `τ` of every opacity
+/// byte in `taus`; the other modes ignore it), or [`EXTINCTION_F32`]. `V` must be
+/// [`Voxel::STRAIGHT_RGBA8`] (for `EXTINCTION_F32`, [`ExtinctionF32`]: others read as
+/// transparent) and `vol` must [`fits`].
+pub(crate) fn march8<V: Voxel, const MODE: u8>(
+    _cpu: Avx2,
+    vol: &Volume<'_, V>,
+    rays: &[Ray; LANES],
+    ranges: &[(f32, u32); LANES],
+    d: f32,
+    a_stop: f32,
+    taus: &[f32; 256],
+) -> [Sample; LANES] {
+    // SAFETY: `march8_any` needs a CPU with AVX2 and FMA; `_cpu` exists only where
+    // `Avx2::detect` found them on this CPU.
+    let acc = unsafe { march8_any::<V, MODE>(vol, rays, ranges, d, a_stop, taus) };
+    let [r, g, b, a] = acc.map(|v| v.map(|x| f32::from_bits(x as u32)));
+    let mut out = [Sample::TRANSPARENT; LANES];
+    for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
+        *o = Sample { c: [r, g, b], a };
+    }
+    out
+}
+
+/// One ray front to back over its samples `t₀ + j·d`, `j < n`, with `(t₀, n) = range`, eight
+/// consecutive samples at a time in the lanes, composited in order until `A ≥ a_stop`: the
+/// accumulated sample before the background and the number of samples composited,
+/// bit-identical to the one-ray march (`RayMarcher::cast_counted`) of the mode `MODE`, as
+/// [`march8`] (whose requirements on `V` and `vol` hold here too).
+pub(crate) fn march_one<V: Voxel, const MODE: u8>(
+    _cpu: Avx2,
+    vol: &Volume<'_, V>,
+    ray: &Ray,
+    range: (f32, u32),
+    d: f32,
+    a_stop: f32,
+    taus: &[f32; 256],
+) -> (Sample, u32) {
+    let (rays, ranges) = ([*ray; LANES], [range; LANES]);
+    // SAFETY: as in `march8`.
+    let out =
+        unsafe { march8_avx2::<V, MODE, 2, false, true>(vol, &rays, &ranges, d, a_stop, taus) };
+    let [[r, n, ..], [g, ..], [b, ..], [a, ..]] = out;
+    let f = |x: i32| f32::from_bits(x as u32);
+    (
+        Sample {
+            c: [f(r), f(g), f(b)],
+            a: f(a),
+        },
+        n as u32,
+    )
+}
+
+/// The integer `OpacityWeighted` trilinear march at `F = 8` of eight rays
+/// (`IntRayMarcher::cast_rays`): as [`march8`], with the samples `t₀ + j·d` of
+/// `ranges` (`IntRayMarcher::sample_range`) at the positions `Ray::at` computes, each
+/// clamped into `[0, n − 1]` per axis and quantized (**round half up** to 8 fractional bits,
+/// `IntPos::quantize`), sampled by [`int_sums`] (`IntMode::combine`, bit for bit) and
+/// composited by `fixed_point::front_to_back` until `A ≥ a_stop` before a sample: the
+/// accumulated samples before the background, bit-identical to `IntRayMarcher::cast`'s march.
+/// `V` must be [`Voxel::STRAIGHT_RGBA8`] and `vol` must [`fits_int`].
+pub(crate) fn march8_int<V: Voxel>(
+    _cpu: Avx2,
+    vol: &Volume<'_, V>,
+    rays: &[Ray; LANES],
+    ranges: &[(f32, u32); LANES],
+    d: f32,
+    a_stop: u16,
+) -> [crate::fixed_point::IntSample; LANES] {
+    let stop = f32::from(a_stop);
+    // SAFETY: as in `march8`.
+    let acc = unsafe { march8_any::<V, INTEGER_OW>(vol, rays, ranges, d, stop, &[0.0; 256]) };
+    let [r, g, b, a] = acc;
+    let mut out = [crate::fixed_point::IntSample::TRANSPARENT; LANES];
+    for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
+        // Every lane holds `C ≤ A ≤ ONE`: `front_to_back`'s invariants, whose integer
+        // arithmetic the kernel performs.
+        let narrow = |x: i32| u16::try_from(x).unwrap_or(u16::MAX);
+        *o =
+            crate::fixed_point::IntSample::from_valid([narrow(r), narrow(g), narrow(b)], narrow(a));
+    }
+    out
+}
+
+/// Whether the integer kernel can march `vol`: it [`fits`], and every coordinate times 256
+/// stays below `2^22` (its `f32` quantization is exact there, and in an `i32` lane).
+#[inline(always)]
+pub(crate) fn fits_int<V: Voxel>(vol: &Volume<'_, V>) -> bool {
+    fits(vol) && vol.dims().iter().all(|&n| n <= 1 << 14)
+}
+
+/// [`march8_avx2`] of the packet's kind (parallel rays with the reuse across their major
+/// axis, others without): the accumulated `[r, g, b, α]` lanes as bit patterns.
+#[target_feature(enable = "avx2,fma")]
+fn march8_any<V: Voxel, const MODE: u8>(
+    vol: &Volume<'_, V>,
+    rays: &[Ray; LANES],
+    ranges: &[(f32, u32); LANES],
+    d: f32,
+    a_stop: f32,
+    taus: &[f32; 256],
+) -> [[i32; LANES]; 4] {
+    let [r0, ..] = rays;
+    if rays.iter().any(|r| r.dir() != r0.dir()) {
+        march8_avx2::<V, MODE, 2, false, false>(vol, rays, ranges, d, a_stop, taus)
+    } else {
+        match major_axis(r0.dir()) {
+            0 => march8_avx2::<V, MODE, 0, true, false>(vol, rays, ranges, d, a_stop, taus),
+            1 => march8_avx2::<V, MODE, 1, true, false>(vol, rays, ranges, d, a_stop, taus),
+            _ => march8_avx2::<V, MODE, 2, true, false>(vol, rays, ranges, d, a_stop, taus),
+        }
+    }
+}
+
+/// The axis of `dir`'s largest component (by magnitude; the last of equals).
+fn major_axis(dir: [f32; 3]) -> usize {
+    let [x, y, z] = dir.map(f32::abs);
+    if x > y && x > z {
+        0
+    } else if y > z {
+        1
+    } else {
+        2
+    }
+}

@@ -1,0 +1,385 @@
+//! The taps of a step: indices, the bounds test before the unchecked loads, the loads
+//! (words, pairs, 16-byte voxels), the channels, and the faces a packet of parallel rays
+//! keeps between steps ([`Cell`]).
+
+use core::arch::x86_64::*;
+
+use super::*;
+
+/// The eight taps' voxel indices of a step, eight lanes each, as scalars (read through memory:
+/// eight lane extractions per tap cost about 6 % of the kernel's time).
+///
+/// The clamped indices always lie in the data; [`Taps::new`] proves it for all 64 by one
+/// vector test (their unsigned maximum below `data.len()`), and then [`Taps::load`] reads
+/// without a bounds check per voxel (which cost about 13 % of the kernel's time). Were an
+/// index ever outside, every load would be checked and such a voxel read as transparent:
+/// never out of bounds either way.
+pub(super) struct Taps<'d, V> {
+    data: &'d [V],
+    at: [__m256i; 8],
+    /// Set only by `new`, and only when every index of `at` is below `data.len()`.
+    inside: bool,
+    /// `data` as `StraightU8` (`Voxel::as_straight_u8`, of the same length), whose pairs
+    /// of voxels [`load_pair`](Self::load_pair) reads as 8-byte words; `None` for other
+    /// formats.
+    bytes: Option<&'d [StraightU8]>,
+    /// Set only by `new`, and only where `inside`, `bytes` is there and, in every lane, the
+    /// index of each odd tap `k + 1` is that of tap `k` plus one: the x neighbours lie side by
+    /// side in memory.
+    pairs: bool,
+    /// `data` as `ExtinctionF32` (`Voxel::as_extinction_f32`, of the same length), read by
+    /// [`load_f32x4`](Self::load_f32x4); `None` for other formats.
+    f32x4: Option<&'d [ExtinctionF32]>,
+}
+
+impl<'d, V: Voxel> Taps<'d, V> {
+    /// Whether every tap index lies in the data (the fields stay private to this module, so
+    /// that only [`new`](Self::new), which tests it, sets it).
+    #[inline(always)]
+    pub(super) fn inside(&self) -> bool {
+        self.inside
+    }
+
+    /// Whether the x neighbours lie side by side in memory (set only by `new`).
+    #[inline(always)]
+    pub(super) fn pairs(&self) -> bool {
+        self.pairs
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn new(data: &'d [V], at: [__m256i; 8]) -> Self {
+        let [a0, a1, a2, a3, a4, a5, a6, a7] = at;
+        let max = |a, b| _mm256_max_epu32(a, b);
+        let max = max(max(max(a0, a1), max(a2, a3)), max(max(a4, a5), max(a6, a7)));
+        // `last` is the last index as an `i32` where the length is `1..=i32::MAX` (`fits`
+        // holds for every volume the kernel is given; the test below repeats it).
+        let len = data.len();
+        let last = _mm256_set1_epi32((len as i32).wrapping_sub(1));
+        let below = _mm256_cmpeq_epi32(_mm256_max_epu32(max, last), last);
+        let inside = (1..=i32::MAX as usize).contains(&len) && _mm256_movemask_epi8(below) == -1;
+        let [a0, a1, a2, a3, a4, a5, a6, a7] = at;
+        let one = _mm256_set1_epi32(1);
+        let next = |a: __m256i, b: __m256i| _mm256_cmpeq_epi32(_mm256_add_epi32(a, one), b);
+        let side_by_side = _mm256_and_si256(
+            _mm256_and_si256(next(a0, a1), next(a2, a3)),
+            _mm256_and_si256(next(a4, a5), next(a6, a7)),
+        );
+        let bytes = V::as_straight_u8(data).filter(|b| b.len() == len);
+        let pairs = inside && bytes.is_some() && _mm256_movemask_epi8(side_by_side) == -1;
+        let f32x4 = V::as_extinction_f32(data).filter(|e| e.len() == len);
+        Self {
+            data,
+            at,
+            inside,
+            bytes,
+            pairs,
+            f32x4,
+        }
+    }
+
+    /// The `[C^τ r, g, b, τ]` of tap `k`'s eight [`ExtinctionF32`] voxels, one 16-byte read
+    /// per lane and a 4 × 4 transposition per half; without bounds checks where `INSIDE` and
+    /// `inside` (as [`load`](Self::load)). All zero (transparent) for other formats, which the
+    /// kernel never reads this way.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn load_f32x4<const INSIDE: bool>(&self, k: usize) -> [__m256; 4] {
+        let (Some(&at), Some(ext)) = (self.at.get(k), self.f32x4) else {
+            return [_mm256_setzero_ps(); 4];
+        };
+        let vector = |v: ExtinctionF32| {
+            let [r, g, b] = v.c_tau;
+            _mm_setr_ps(r, g, b, v.tau)
+        };
+        let at = to_i32s(at);
+        let m = if INSIDE && self.inside {
+            map8(at, |i| {
+                // SAFETY: `inside`: `0 ≤ i < data.len()` = `ext.len()` as unsigned numbers,
+                // tested by `new` for every lane of every tap.
+                vector(unsafe { *ext.get_unchecked(i as u32 as usize) })
+            })
+        } else {
+            map8(at, |i| {
+                vector(
+                    ext.get(i as u32 as usize)
+                        .copied()
+                        .unwrap_or(ExtinctionF32::TRANSPARENT),
+                )
+            })
+        };
+        let [m0, m1, m2, m3, m4, m5, m6, m7] = m;
+        // Lanes `l` and `l + 4` in the two halves, then per half the transposition of four
+        // `[r, g, b, τ]` rows into four columns.
+        let (v04, v15) = (_mm256_set_m128(m4, m0), _mm256_set_m128(m5, m1));
+        let (v26, v37) = (_mm256_set_m128(m6, m2), _mm256_set_m128(m7, m3));
+        let rg01 = _mm256_unpacklo_ps(v04, v15);
+        let bt01 = _mm256_unpackhi_ps(v04, v15);
+        let rg23 = _mm256_unpacklo_ps(v26, v37);
+        let bt23 = _mm256_unpackhi_ps(v26, v37);
+        [
+            _mm256_shuffle_ps::<0b01_00_01_00>(rg01, rg23),
+            _mm256_shuffle_ps::<0b11_10_11_10>(rg01, rg23),
+            _mm256_shuffle_ps::<0b01_00_01_00>(bt01, bt23),
+            _mm256_shuffle_ps::<0b11_10_11_10>(bt01, bt23),
+        ]
+    }
+
+    /// The channels of tap `k` as the kernel computes with them ([`channels`] of its words,
+    /// or for `EXTINCTION_F32` its vectors); `INSIDE` as [`load`](Self::load).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn channels<const MODE: u8, const INSIDE: bool>(
+        &self,
+        k: usize,
+        taus: &[f32; 256],
+    ) -> [__m256; 4] {
+        if MODE == EXTINCTION_F32 {
+            self.load_f32x4::<INSIDE>(k)
+        } else {
+            channels::<MODE>(self.load::<INSIDE>(k), taus)
+        }
+    }
+
+    /// The voxels of tap `k` as little-endian RGBA words; without bounds checks where
+    /// `INSIDE` and `inside` (a caller that has tested `inside` passes `INSIDE`, so that the
+    /// test here folds away).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn load<const INSIDE: bool>(&self, k: usize) -> __m256i {
+        let word = |v: V| i32::from_le_bytes(v.rgba8());
+        // (`k < 8` in every call; another `k` reads transparent voxels.)
+        let Some(&at) = self.at.get(k) else {
+            return _mm256_setzero_si256();
+        };
+        let at = to_i32s(at);
+        if INSIDE && self.inside {
+            from_i32s(map8(at, |i| {
+                // SAFETY: `inside`: `0 ≤ i < data.len()` as unsigned numbers, tested by `new`
+                // for every lane of every tap (`max_epu32(max, last) = last` in all lanes).
+                word(unsafe { *self.data.get_unchecked(i as u32 as usize) })
+            }))
+        } else {
+            from_i32s(map8(at, |i| {
+                word(
+                    self.data
+                        .get(i as u32 as usize)
+                        .copied()
+                        .unwrap_or(V::TRANSPARENT),
+                )
+            }))
+        }
+    }
+
+    /// The voxels of taps `k` and `k + 1` (`k` even: x neighbours), as [`load`](Self::load)
+    /// of each, in one 8-byte read per lane (the two words side by side) without bounds checks
+    /// where `pairs` (a caller that has tested `pairs` calls it only then; elsewhere it falls
+    /// back to the checked loads).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn load_pair(&self, k: usize) -> [__m256i; 2] {
+        let (at, bytes) = match (self.at.get(k), self.bytes) {
+            (Some(&at), Some(bytes)) if self.pairs && k % 2 == 0 => (to_i32s(at), bytes),
+            _ => return self.load_two(k),
+        };
+        let [i0, i1, i2, i3, i4, i5, i6, i7] = at;
+        let pair = |i: i32| {
+            let i = i as u32 as usize;
+            // SAFETY: `pairs`: tap `k + 1`'s index is `i + 1` (`k` even) and, by `inside`,
+            // below `data.len()` = `bytes.len()`, as is `i`; the two `StraightU8`
+            // (`repr(transparent)` over `[u8; 4]`) are eight initialised bytes side by side,
+            // read unaligned.
+            unsafe {
+                let two = bytes.get_unchecked(i..i + 2);
+                two.as_ptr().cast::<i64>().read_unaligned()
+            }
+        };
+        // Lanes 0, 1, 4, 5 and 2, 3, 6, 7, so that taking the even and the odd words of the
+        // two (per 128-bit half) leaves the lanes in order.
+        let half = |a: i32, b: i32| _mm_insert_epi64::<1>(_mm_cvtsi64_si128(pair(a)), pair(b));
+        let four = |lo: __m128i, hi: __m128i| {
+            _mm256_castsi256_ps(_mm256_inserti128_si256::<1>(_mm256_castsi128_si256(lo), hi))
+        };
+        let a = four(half(i0, i1), half(i4, i5));
+        let b = four(half(i2, i3), half(i6, i7));
+        [
+            _mm256_castps_si256(_mm256_shuffle_ps::<0b10_00_10_00>(a, b)),
+            _mm256_castps_si256(_mm256_shuffle_ps::<0b11_01_11_01>(a, b)),
+        ]
+    }
+
+    /// Taps `k` and `k + 1` by the checked [`load`](Self::load): [`load_pair`](Self::load_pair)
+    /// where it is called without `pairs` (which its callers do not do).
+    #[cold]
+    #[inline(never)]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn load_two(&self, k: usize) -> [__m256i; 2] {
+        [self.load::<false>(k), self.load::<false>(k + 1)]
+    }
+}
+
+/// The taps of the cell's two faces across axis `A` (0 = x, 1 = y, 2 = z): tap `k` (bit 0 of
+/// `k` the x side, bit 1 the y side, bit 2 the z side, as in `filter::trilinear_weights`)
+/// lies on face `(k >> A) & 1`, at place [`place::<A>(k)`](place) within it.
+#[inline(always)]
+pub(super) fn face<const A: usize>(side: usize) -> [usize; 4] {
+    // Tap `k` of place `p`: `p` with the bit `side` inserted at bit `A`.
+    let tap = |p: usize| (p & ((1 << A) - 1)) | ((side & 1) << A) | ((p >> A) << (A + 1));
+    [tap(0), tap(1), tap(2), tap(3)]
+}
+
+/// The place of tap `k` within its face across axis `A` (see [`face`]).
+#[inline(always)]
+pub(super) fn place<const A: usize>(k: usize) -> usize {
+    let low = k & ((1 << A) - 1);
+    let high = k >> (A + 1);
+    low | (high << A)
+}
+
+/// The channels of a cell's eight taps as `f32` (`[r, g, b, α]`, each `n/255` correctly
+/// rounded), kept between steps as two faces across axis `A`: `faces[near ^ s]` holds the
+/// taps of side `s` (see [`face`]), so that a step of one cell along `A` turns the far face
+/// into the near one by flipping `near`. For `INTEGER_OW` a face holds its two pairs of taps
+/// packed ([`int_pair`]) at places 0 and 2 (and again at 1 and 3).
+pub(super) struct Cell<const A: usize> {
+    faces: [[[__m256; 4]; 4]; 2],
+    pub(super) near: usize,
+    /// The indices of taps `0`, `7` and `far₀` (the far face's tap `0`) of the cell held, per
+    /// lane; −1 (no index) before the first read.
+    pub(super) at: [__m256i; 3],
+}
+
+impl<const A: usize> Cell<A> {
+    /// Of a cell's eight tap indices, that of the far face's tap `0` (tap `1 << A`).
+    #[inline(always)]
+    pub(super) fn far0(at: &[__m256i; 8]) -> __m256i {
+        match A {
+            0 => at[1],
+            1 => at[2],
+            _ => at[4],
+        }
+    }
+
+    /// Of a cell's eight tap indices, that of the near face's tap `7` (tap `7 ^ (1 << A)`).
+    #[inline(always)]
+    pub(super) fn near7(at: &[__m256i; 8]) -> __m256i {
+        match A {
+            0 => at[6],
+            1 => at[5],
+            _ => at[3],
+        }
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn new() -> Self {
+        Self {
+            faces: [[[_mm256_setzero_ps(); 4]; 4]; 2],
+            near: 0,
+            at: [_mm256_set1_epi32(-1); 3],
+        }
+    }
+
+    /// Reads and converts the taps of side `SIDE` (see [`face`]). The branch on `inside` is
+    /// taken once per face, outside the taps' loop.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn read<V: Voxel, const MODE: u8, const SIDE: usize>(
+        &mut self,
+        taps: &Taps<'_, V>,
+        taus: &[f32; 256],
+    ) {
+        let [f0, f1] = &mut self.faces;
+        let out = if (self.near ^ SIDE) & 1 == 0 { f0 } else { f1 };
+        let [k0, k1, k2, k3] = face::<A>(SIDE);
+        if MODE == INTEGER_OW {
+            // The face's words, then its two pairs (places 0 and 1, 2 and 3: neighbours
+            // along x, or along y for a face across x) packed for `int_sums`, held at places
+            // 0 and 2, and again at 1 and 3 ([`int_pair`]).
+            let [w0, w1, w2, w3] = if A != 0 && taps.pairs {
+                let [w0, w1] = taps.load_pair(k0);
+                let [w2, w3] = taps.load_pair(k2);
+                [w0, w1, w2, w3]
+            } else if taps.inside {
+                map4([k0, k1, k2, k3], |k| taps.load::<true>(k))
+            } else {
+                map4([k0, k1, k2, k3], |k| taps.load::<false>(k))
+            };
+            let [p0, p1] = [int_pair(w0, w1), int_pair(w2, w3)];
+            *out = [p0, p0, p1, p1];
+            return;
+        }
+        // Across y or z, a face's taps are two x pairs (`face`); across x, none.
+        if A != 0 && taps.pairs {
+            let [t0, t1] = taps.load_pair(k0);
+            let [t2, t3] = taps.load_pair(k2);
+            *out = [
+                channels::<MODE>(t0, taus),
+                channels::<MODE>(t1, taus),
+                channels::<MODE>(t2, taus),
+                channels::<MODE>(t3, taus),
+            ];
+        } else if taps.inside {
+            unpack::<V, MODE, true>(taps, face::<A>(SIDE), out, taus);
+        } else {
+            unpack::<V, MODE, false>(taps, face::<A>(SIDE), out, taus);
+        }
+    }
+
+    /// The channels of tap `k`.
+    #[inline(always)]
+    pub(super) fn tap(&self, k: usize) -> [__m256; 4] {
+        let [f0, f1] = &self.faces;
+        let f = if (self.near ^ (k >> A)) & 1 == 0 {
+            f0
+        } else {
+            f1
+        };
+        match place::<A>(k) {
+            0 => f[0],
+            1 => f[1],
+            2 => f[2],
+            _ => f[3],
+        }
+    }
+}
+
+/// Reads and converts the taps `ks` into `out`; `INSIDE` as [`Taps::load`].
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+pub(super) fn unpack<V: Voxel, const MODE: u8, const INSIDE: bool>(
+    taps: &Taps<'_, V>,
+    ks: [usize; 4],
+    out: &mut [[__m256; 4]; 4],
+    taus: &[f32; 256],
+) {
+    for (c, k) in out.iter_mut().zip(ks) {
+        *c = taps.channels::<MODE, INSIDE>(k, taus);
+    }
+}
+
+/// The channels of eight little-endian RGBA words as `f32`: `[r, g, b, α]`, each `n/255`
+/// correctly rounded; for `EXTINCTION_U8` `[τ·r, τ·g, τ·b, τ]` with `τ = taus[α byte]`, as
+/// `TauTable::extinction` (`INTEGER_OW` reads words, [`int_pair`]).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+pub(super) fn channels<const MODE: u8>(g: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
+    let byte = _mm256_set1_epi32(0xff);
+    let a = _mm256_srli_epi32::<24>(g);
+    let bytes = [
+        _mm256_and_si256(g, byte),
+        _mm256_and_si256(_mm256_srli_epi32::<8>(g), byte),
+        _mm256_and_si256(_mm256_srli_epi32::<16>(g), byte),
+    ];
+    let [r, g, b] = map3(bytes, |n| unorm8(n));
+    if MODE == EXTINCTION_U8 {
+        // (Every lane is a byte, so the lookup cannot miss.)
+        let t = |n: i32| taus.get(usize::from(n as u8)).copied().unwrap_or(0.0);
+        let [n0, n1, n2, n3, n4, n5, n6, n7] = to_i32s(a);
+        let tau = _mm256_setr_ps(t(n0), t(n1), t(n2), t(n3), t(n4), t(n5), t(n6), t(n7));
+        let mul = _mm256_mul_ps;
+        [mul(tau, r), mul(tau, g), mul(tau, b), tau]
+    } else {
+        [r, g, b, unorm8(a)]
+    }
+}
