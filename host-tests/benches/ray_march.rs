@@ -17,18 +17,15 @@
 //! Empty space: the same volume cut to a ball in air, marched with and without empty-space
 //! skipping (`volsample::skip`), and the grid's lookup cost where nothing is empty.
 //!
-//! Packets: the `_packets` rows and passes march the same rays four at a time
-//! ([`RayMarcher::cast_rays`], bit-identical per ray to `cast`), the others one at a time.
-//! Built with the feature `avx2` for an AVX2 CPU (`RUSTFLAGS="-C target-feature=+avx2,+fma"
-//! cargo bench -p volsample-host --features avx2 --bench ray_march`), the `OpacityWeighted` and
-//! `Separate` packets march eight rays at a time in AVX2 lanes (`render::AVX2_PACKETS`), and
-//! so does `render_into` (the `_render_into` row; one ray at a time in other builds). The
-//! integer `OpacityWeighted` packets (`IntRayMarcher::cast_rays`) march eight rays in AVX2
-//! lanes in that build (`fixed_point::AVX2_INT_PACKETS`), one at a time in others.
-//!
-//! Built with the feature `sse2` (`cargo bench -p volsample-host --features sse2 --bench
-//! ray_march`, any x86-64), the integer `OpacityWeighted` rows run the SSE2 kernel
-//! (`fixed_point::SSE2_KERNEL`; the interleaved passes print which one ran).
+//! Packets: the `_packets` rows and passes march the same rays with
+//! [`RayMarcher::cast_rays`] (bit-identical per ray to `cast`), the others one at a time.
+//! Every marcher runs in the instruction set `VOLSAMPLE_ISA` names (`baseline` or `avx2`),
+//! else the best the CPU has (`volsample::Isa::detect`; the interleaved passes print which):
+//! in the AVX2 instance the `OpacityWeighted`, `Separate` and extinction packets march eight
+//! rays at a time in AVX2 lanes, `cast` eight consecutive samples of its ray, and so does
+//! `render_into` (the `_render_into` row); the integer `OpacityWeighted` packets
+//! (`IntRayMarcher::cast_rays`) march eight rays too. On x86-64 the integer
+//! `OpacityWeighted` trilinear kernel is the SSE2 one in every build.
 //!
 //! Yardsticks: the `yardstick_` rows and the last three passes march the same samples with
 //! loops that are not volsample (`volsample_host::yardstick`): a hand-tuned one (SSE2 on

@@ -29,7 +29,7 @@ use super::{check_frac_bits, IntCorrection, IntFilter, IntMode, IntPos, IntSampl
 use crate::arch::{in_isa, Isa};
 use crate::error::Error;
 use crate::ray::{Camera, Ray};
-use crate::render::{check_len, trace_image, trace_rows8};
+use crate::render::{check_len, render_image};
 use crate::render::{Step, MAX_SAMPLES_PER_RAY};
 use crate::skip::{Emptiness, NoSkip, Occupancy, Skipping};
 use crate::volume::Volume;
@@ -530,17 +530,14 @@ where
     ) -> Result<(), Error> {
         in_isa!(
             self.isa,
-            if self.eight_ray_packets() {
-                trace_rows8(camera, width, height, image, |rays, px| {
-                    check_len(rays.len(), px.len())?;
-                    self.cast_rays_here(rays, px);
-                    Ok(())
-                })
-            } else {
-                trace_image(camera, width, height, image, |ray| {
-                    self.cast_counted_here(ray).0
-                })
-            }
+            render_image(
+                camera,
+                (width, height),
+                image,
+                self.eight_ray_packets(),
+                |rays, px| self.cast_rays_here(rays, px),
+                |ray| self.cast_counted_here(ray).0,
+            )
         )
     }
 }

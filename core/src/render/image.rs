@@ -37,7 +37,7 @@ fn check_image(width: usize, height: usize, len: usize) -> Result<(), Error> {
 ///
 /// # Errors
 /// As [`trace_image`], and those of `cast_rays`.
-pub(crate) fn trace_rows8<P, Cam: Camera>(
+fn trace_rows8<P, Cam: Camera>(
     camera: &Cam,
     width: usize,
     height: usize,
@@ -65,7 +65,7 @@ pub(crate) fn trace_rows8<P, Cam: Camera>(
 /// # Errors
 /// [`Error::EmptyImage`] for a zero width or height, [`Error::ImageSizeMismatch`] unless
 /// `image.len() == width·height`.
-pub(crate) fn trace_image<P, Cam: Camera>(
+fn trace_image<P, Cam: Camera>(
     camera: &Cam,
     width: usize,
     height: usize,
@@ -79,4 +79,30 @@ pub(crate) fn trace_image<P, Cam: Camera>(
         }
     }
     Ok(())
+}
+
+/// The image of both ray marchers' `render_into`: where `packets`, eight pixels of a row at a
+/// time by `cast_rays` (as many rays as outputs; [`trace_rows8`]), else each pixel by
+/// `cast` ([`trace_image`]).
+///
+/// # Errors
+/// As [`trace_image`].
+#[inline(always)]
+pub(crate) fn render_image<P, Cam: Camera>(
+    camera: &Cam,
+    (width, height): (usize, usize),
+    image: &mut [P],
+    packets: bool,
+    mut cast_rays: impl FnMut(&[Ray], &mut [P]),
+    cast: impl Fn(&Ray) -> P,
+) -> Result<(), Error> {
+    if packets {
+        trace_rows8(camera, width, height, image, |rays, px| {
+            check_len(rays.len(), px.len())?;
+            cast_rays(rays, px);
+            Ok(())
+        })
+    } else {
+        trace_image(camera, width, height, image, cast)
+    }
 }

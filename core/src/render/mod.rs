@@ -34,7 +34,7 @@ use crate::voxel::Voxel;
 mod image;
 mod packets;
 
-pub(crate) use image::{check_len, trace_image, trace_rows8};
+pub(crate) use image::{check_len, render_image};
 
 /// Most samples one ray may take (2²⁴, so every sample index is exact in `f32`).
 pub const MAX_SAMPLES_PER_RAY: usize = 1 << 24;
@@ -524,17 +524,14 @@ where
     ) -> Result<(), Error> {
         in_isa!(
             self.isa,
-            if self.eight_ray_packets() {
-                trace_rows8(camera, width, height, image, |rays, px| {
-                    check_len(rays.len(), px.len())?;
-                    self.cast_rays_here(rays, px);
-                    Ok(())
-                })
-            } else {
-                trace_image(camera, width, height, image, |ray| {
-                    self.cast_counted_here(ray).0
-                })
-            }
+            render_image(
+                camera,
+                (width, height),
+                image,
+                self.eight_ray_packets(),
+                |rays, px| self.cast_rays_here(rays, px),
+                |ray| self.cast_counted_here(ray).0,
+            )
         )
     }
 }
