@@ -1126,6 +1126,14 @@ fn integer_packets_are_bit_identical_to_single_rays() {
                         *got, want,
                         "{what}, {isa}, case {case}, stop {a_stop}: {ray:?}"
                     );
+                    // One ray at a time (eight consecutive samples in the AVX2 lanes), sample
+                    // counts included.
+                    let one = m.clone().with_isa(isa).cast_counted(ray);
+                    assert_eq!(
+                        one,
+                        base.cast_counted(ray),
+                        "{what}, {isa}, one ray: {ray:?}"
+                    );
                 }
                 rays_checked += len;
             }

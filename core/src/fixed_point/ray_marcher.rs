@@ -302,6 +302,13 @@ where
         let d = self.step.d();
         let a_stop = self.stop.a_stop();
         let mut acc = IntSample::TRANSPARENT;
+        #[cfg(target_arch = "x86_64")]
+        if let (Some(cpu), true) = (self.isa.avx2_token(), self.eight_ray_packets()) {
+            // Eight consecutive samples in the AVX2 lanes (the same positions, integer
+            // arithmetic and order of compositing).
+            let vol = self.sampler.volume();
+            return crate::arch::avx2::march_one_int(cpu, vol, ray, (t_first, n), d, a_stop);
+        }
         if !S::SKIPS {
             // Software-pipelined: the voxels of sample `j + 1` are read before sample `j` is
             // combined, so their loads are in flight meanwhile. Same positions, same taps, same

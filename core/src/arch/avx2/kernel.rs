@@ -174,6 +174,44 @@ pub(super) fn march8_avx2<
         out
     };
     let mut one_acc = Sample::TRANSPARENT;
+    // The same for `INTEGER_OW`: `fixed_point::front_to_back` of each sample, stopping before
+    // a sample once `A ≥ a_stop` (as `IntRayMarcher::cast` does).
+    let int_serial = |acc: &mut IntSample, [r, g, b, a]: [__m256; 4], i: u32| {
+        let [r, g, b, a] = map4([r, g, b, a], |v| to_i32s(_mm256_castps_si256(v)));
+        let lanes = r.into_iter().zip(g).zip(b).zip(a);
+        // Every lane holds `C ≤ A ≤ ONE` (`IntMode::combine`'s invariant, whose integer
+        // arithmetic the kernel performs).
+        let narrow = |x: i32| u16::try_from(x).unwrap_or(u16::MAX);
+        for (k, (((r, g), b), a)) in (i * LANES as u32..).zip(lanes) {
+            if k >= samples {
+                return Some(samples);
+            }
+            if f32::from(acc.a()) >= a_stop {
+                return Some(k);
+            }
+            let s = IntSample::from_valid([narrow(r), narrow(g), narrow(b)], narrow(a));
+            *acc = int_front_to_back(*acc, s);
+        }
+        None
+    };
+    let int_result = |s: IntSample, n: u32| {
+        let [r, g, b] = s.c().map(i32::from);
+        let mut out = [[0i32; LANES]; 4];
+        let [or, og, ob, oa] = &mut out;
+        [or[0], or[1], og[0], ob[0], oa[0]] = [r, n as i32, g, b, i32::from(s.a())];
+        out
+    };
+    let mut int_acc = IntSample::TRANSPARENT;
+    // The accumulated result of the one ray, once it ends or stops at step `i`.
+    let mut one_ray = |s: [__m256; 4], i: u32| {
+        if MODE == INTEGER_OW {
+            let n = int_serial(&mut int_acc, s, i)?;
+            Some(int_result(int_acc, n))
+        } else {
+            let n = serial(&mut one_acc, s, i)?;
+            Some(one_result(one_acc, n))
+        }
+    };
 
     let mut acc = [zf; 4];
     // Lanes still compositing: before their last sample and not yet stopped (with `ONE`,
@@ -377,8 +415,8 @@ pub(super) fn march8_avx2<
             s
         };
         if ONE {
-            if let Some(n) = serial(&mut one_acc, finish(s), j - lag) {
-                return one_result(one_acc, n);
+            if let Some(out) = one_ray(finish(s), j - lag) {
+                return out;
             }
         } else {
             acc = over(acc, finish(s), live);
@@ -393,8 +431,8 @@ pub(super) fn march8_avx2<
         let left = pending.iter().skip((LAG - (j - first)) as usize);
         for (i, s) in (first..j).zip(left) {
             if ONE {
-                if let Some(n) = serial(&mut one_acc, finish(*s), i) {
-                    return one_result(one_acc, n);
+                if let Some(out) = one_ray(finish(*s), i) {
+                    return out;
                 }
             } else if _mm256_movemask_ps(live) != 0 {
                 acc = over(acc, finish(*s), live);
@@ -403,7 +441,11 @@ pub(super) fn march8_avx2<
         }
     }
     if ONE {
-        return one_result(one_acc, samples);
+        return if MODE == INTEGER_OW {
+            int_result(int_acc, samples)
+        } else {
+            one_result(one_acc, samples)
+        };
     }
     let [r, g, b, a] = acc;
     let bits = |v: __m256| to_i32s(_mm256_castps_si256(v));

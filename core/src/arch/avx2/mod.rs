@@ -88,6 +88,7 @@
 use core::arch::x86_64::*;
 
 use crate::composite::front_to_back;
+use crate::fixed_point::{front_to_back as int_front_to_back, IntSample};
 use crate::mode::integrate_step;
 use crate::opacity::{PHI_POLY, PHI_POLY_BELOW};
 use crate::ray::Ray;
@@ -274,6 +275,31 @@ pub(crate) fn march_one<V: Voxel, const MODE: u8>(
             c: [f(r), f(g), f(b)],
             a: f(a),
         },
+        n as u32,
+    )
+}
+
+/// The integer march of one ray ([`march8_int`]'s, as `IntRayMarcher::cast_counted` does it
+/// for its marchers), eight consecutive samples at a time in the lanes: the accumulated
+/// sample before the background and the number of samples composited.
+pub(crate) fn march_one_int<V: Voxel>(
+    _cpu: Avx2,
+    vol: &Volume<'_, V>,
+    ray: &Ray,
+    range: (f32, u32),
+    d: f32,
+    a_stop: u16,
+) -> (IntSample, u32) {
+    let (rays, ranges) = ([*ray; LANES], [range; LANES]);
+    let stop = f32::from(a_stop);
+    let none = &[0.0; 256];
+    // SAFETY: as in `march8`.
+    let out =
+        unsafe { march8_avx2::<V, INTEGER_OW, 2, false, true>(vol, &rays, &ranges, d, stop, none) };
+    let [[r, n, ..], [g, ..], [b, ..], [a, ..]] = out;
+    let narrow = |x: i32| u16::try_from(x).unwrap_or(u16::MAX);
+    (
+        IntSample::from_valid([narrow(r), narrow(g), narrow(b)], narrow(a)),
         n as u32,
     )
 }
