@@ -1,6 +1,6 @@
 //! Integer (fixed-point) downsampling: one pyramid level and a whole mipmap chain for `u8`
 //! associated, U8.8 and fixed-point extinction voxels, bit-exact and without floats in the
-//! kernel (DESIGN.md, "Integer (fixed-point) kernels" and "Downsampling").
+//! kernel.
 //!
 //! Geometry is that of the float path ([module docs](super)): each axis halves, `n ↦ ⌈n/2⌉`,
 //! coarse voxel `j` reads fine voxels `2j − 1 … 2j + 2` clamped to the edge, separably along

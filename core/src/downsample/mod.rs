@@ -1,4 +1,4 @@
-//! RGBA downsampling and mipmap chains (Kraus, Bürger 2008, §4; DESIGN.md, "Downsampling").
+//! RGBA downsampling and mipmap chains (Kraus, Bürger 2008, §4).
 //!
 //! One pyramid level halves each axis (odd sizes round up: `n ↦ ⌈n/2⌉`; an axis of 1 stays 1)
 //! with a separable symmetric 4-tap [`Filter4`] `(a, b, b, a)`, `a + b = ½`; taps outside the

@@ -1,5 +1,5 @@
 //! Integer (fixed-point) sampling and compositing: the bit-exact golden model for FPU-less
-//! firmware and hardware datapaths (DESIGN.md, "Integer (fixed-point) kernels").
+//! firmware and hardware datapaths.
 //!
 //! # Formats
 //!

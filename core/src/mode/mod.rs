@@ -1,4 +1,4 @@
-//! Sampling modes: *what* is interpolated between voxels (DESIGN.md, "Sampling modes").
+//! Sampling modes: *what* is interpolated between voxels.
 //!
 //! | mode | interpolates | sample `(C̃, α)` |
 //! |---|---|---|
