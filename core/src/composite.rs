@@ -8,7 +8,8 @@
 //! monotonically, and `A + fl(1 − A)` cannot round above 1.
 
 use crate::error::Error;
-use crate::sample::Sample;
+use crate::lanes::Lanes;
+use crate::sample::{Interp, Sample};
 
 /// One front-to-back step: `acc` is in front of `s`.
 ///
@@ -17,12 +18,23 @@ use crate::sample::Sample;
 /// tests).
 #[inline(always)]
 pub fn front_to_back(acc: Sample, s: Sample) -> Sample {
-    let t = 1.0 - acc.a;
+    Sample::from(front_to_back_in(acc.into(), s.into(), true))
+}
+
+/// [`front_to_back`] in any [`Lanes`] (the one front-to-back step of every kernel), kept in
+/// the lanes of `live` only: `T = 1 − A`, `C + T·C̃_s`, `A + T·α_s`.
+#[inline(always)]
+pub(crate) fn front_to_back_in<T: Lanes>(acc: Interp<T>, s: Interp<T>, live: T::Mask) -> Interp<T> {
+    let t = T::ONE - acc.a;
     let [r, g, b] = acc.c;
     let [sr, sg, sb] = s.c;
-    Sample {
-        c: [r + t * sr, g + t * sg, b + t * sb],
-        a: acc.a + t * s.a,
+    Interp {
+        c: [
+            T::select(live, r + t * sr, r),
+            T::select(live, g + t * sg, g),
+            T::select(live, b + t * sb, b),
+        ],
+        a: T::select(live, acc.a + t * s.a, acc.a),
     }
 }
 

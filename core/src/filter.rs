@@ -197,7 +197,7 @@ impl TrilinearOrder for WeightedSum {
 /// `w000 = 1 − (w111 + w011 + w101 + w001 + w110 + w010 + w100)` (7A) — the paper's
 /// `1 − x − y − z + xy + xz + yz − xyz` in exact arithmetic, but summed in the order the
 /// kernels sum, so that the weights add up to exactly 1 in floating point and a constant
-/// region is reproduced exactly (see the mode module's `dot`).
+/// region is reproduced exactly (see the mode module's `weighted_sums`).
 ///
 /// Error bound: each weight within `4ε` of its exact value (`ε = 2⁻²³` in `f32`); `w000` may
 /// be `−4ε` where its exact value is 0 (`TRILINEAR_WEIGHT_ABS` in the tests).

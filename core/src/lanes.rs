@@ -1,14 +1,17 @@
-//! Four `f32` lanes: the number type of the lane kernels, which compute four consecutive
-//! samples of one ray at once ([`RayMarcher::cast`](crate::RayMarcher::cast) on SIMD targets)
-//! or march four rays at once ([`RayMarcher::cast4`](crate::RayMarcher::cast4)).
+//! The lane types of the kernels: the [`Lanes`] trait over which every kernel concept that
+//! runs in lanes is written once (the mode's sums and finish, the extinction step with its
+//! `φ`, the clamps of a sample, the front-to-back step with a lane mask, the trilinear
+//! weights), and its instances: `f32` (one lane), [`F32x4`] (four consecutive samples of one
+//! ray in [`RayMarcher::cast`](crate::RayMarcher::cast) on SIMD targets, or four rays in
+//! [`RayMarcher::cast4`](crate::RayMarcher::cast4)) and, on x86-64, the eight AVX2 lanes of
+//! `arch::avx2` (eight rays, or eight samples of one ray).
 //!
-//! [`F32x4`] implements [`Num`], so the generic kernels (the trilinear weights, the weighted
-//! sums of the modes) run on it unchanged, each lane doing exactly the `f32` operations of the
-//! scalar kernel in the same order. IEEE 754 `+`, `−`, `×` are correctly rounded whatever unit
-//! computes them, so **every lane is bit-identical to the scalar kernel** on every target;
-//! `tests/fast_paths.rs` in the host tests checks that for every mode and filter.
+//! Each lane does exactly the `f32` operations of the scalar kernel in the same order. IEEE
+//! 754 `+`, `−`, `×` are correctly rounded whatever unit computes them, so **every lane is
+//! bit-identical to the scalar kernel** on every target; `tests/fast_paths.rs` in the host
+//! tests checks that for every mode and filter.
 //!
-//! The lanes are a plain `[f32; 4]` in portable Rust, with no `unsafe` and no target-specific
+//! [`F32x4`] is a plain `[f32; 4]` in portable Rust, with no `unsafe` and no target-specific
 //! code; the compiler may vectorise the lane loops. (An SSE2 `__m128` representation behind a
 //! feature was measured against it and gave no speed-up on x86-64, so it is not offered.)
 //!
@@ -25,6 +28,78 @@
 use core::ops::{Add, Mul, Sub};
 
 use crate::num::Num;
+use crate::sample::Interp;
+
+/// The number type of the lane kernels: `f32` itself (one lane), [`F32x4`], and on x86-64
+/// the eight AVX2 lanes of `arch::avx2`. Every kernel concept that runs in lanes (the
+/// extinction step, the front-to-back step, the clamps of a sample, the sums of every mode,
+/// the trilinear weights) is written once over it; each operation is the `f32` operation
+/// lane by lane, so every instance is bit-identical to the scalar one (up to the sign of a
+/// zero where [`clamp_to`](Self::clamp_to) says so).
+pub trait Lanes: Num {
+    /// One flag per lane.
+    type Mask: Copy;
+
+    /// Each lane clamped into `[0, hi]` with NaN mapped to 0, as `x.max(0.0).min(hi)`, for
+    /// `hi ≥ 0` and not NaN. Where `x` or `hi` is a zero, the result may be the other zero
+    /// than the scalar one: the kernels only add such a value to an accumulator that starts
+    /// at `+0`, or multiply it, so no result of theirs can tell.
+    fn clamp_to(self, hi: Self) -> Self;
+
+    /// `x.max(0.0)` per lane (NaN to 0; the sign of a zero as in
+    /// [`clamp_to`](Self::clamp_to)).
+    fn max0(self) -> Self;
+
+    /// `self < other` per lane (false where either is NaN).
+    fn lt(self, other: Self) -> Self::Mask;
+
+    /// Whether every lane of `m` is set.
+    fn all(m: Self::Mask) -> bool;
+
+    /// Lane `l` of `a` where `m[l]`, else lane `l` of `b`.
+    fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+
+    /// `f` of each lane's quantities (the rare paths a kernel takes lane by lane).
+    fn per_lane(i: Interp<Self>, f: impl Fn(Interp<f32>) -> Interp<f32>) -> Interp<Self>;
+}
+
+impl Lanes for f32 {
+    type Mask = bool;
+
+    #[inline(always)]
+    fn clamp_to(self, hi: Self) -> Self {
+        crate::sample::clamp_to(self, hi)
+    }
+
+    #[inline(always)]
+    fn max0(self) -> Self {
+        self.max(0.0)
+    }
+
+    #[inline(always)]
+    fn lt(self, other: Self) -> bool {
+        self < other
+    }
+
+    #[inline(always)]
+    fn all(m: bool) -> bool {
+        m
+    }
+
+    #[inline(always)]
+    fn select(m: bool, a: Self, b: Self) -> Self {
+        if m {
+            a
+        } else {
+            b
+        }
+    }
+
+    #[inline(always)]
+    fn per_lane(i: Interp<Self>, f: impl Fn(Interp<f32>) -> Interp<f32>) -> Interp<Self> {
+        f(i)
+    }
+}
 
 mod repr {
     //! One `f32` per lane.
@@ -182,6 +257,44 @@ impl Num for F32x4 {
     #[inline(always)]
     fn from_f32(x: f32) -> Self {
         Self::splat(x)
+    }
+}
+
+impl Lanes for F32x4 {
+    type Mask = [bool; 4];
+
+    #[inline(always)]
+    fn clamp_to(self, hi: Self) -> Self {
+        Self(repr::clamp_to(self.0, hi.0))
+    }
+
+    #[inline(always)]
+    fn max0(self) -> Self {
+        let [a, b, c, d] = self.to_array();
+        Self::from_array([a.max(0.0), b.max(0.0), c.max(0.0), d.max(0.0)])
+    }
+
+    #[inline(always)]
+    fn lt(self, other: Self) -> [bool; 4] {
+        let ([a0, a1, a2, a3], [b0, b1, b2, b3]) = (self.to_array(), other.to_array());
+        [a0 < b0, a1 < b1, a2 < b2, a3 < b3]
+    }
+
+    #[inline(always)]
+    fn all(m: [bool; 4]) -> bool {
+        let [m0, m1, m2, m3] = m;
+        m0 & m1 & m2 & m3
+    }
+
+    #[inline(always)]
+    fn select(m: [bool; 4], a: Self, b: Self) -> Self {
+        Self(repr::select(m, a.0, b.0))
+    }
+
+    #[inline(always)]
+    fn per_lane(i: Interp<Self>, f: impl Fn(Interp<f32>) -> Interp<f32>) -> Interp<Self> {
+        let [l0, l1, l2, l3] = crate::mode::unpack_interp(i);
+        crate::mode::pack_interp([f(l0), f(l1), f(l2), f(l3)])
     }
 }
 

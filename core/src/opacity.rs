@@ -10,8 +10,8 @@
 //! * [`Correction`]: the stage chosen by type; [`Uncorrected`] is the identity and costs
 //!   nothing when `d = d′`.
 
-use crate::lanes::F32x4;
-use crate::mode::{pack_interp, unpack_interp};
+use crate::lanes::Lanes;
+use crate::num::Num;
 use crate::sample::{clamp01, Interp, Sample};
 
 /// Below this `x`, [`phi`] uses its Taylor polynomial `1 − x/2 + x²/6 − x³/24`.
@@ -69,7 +69,15 @@ pub(crate) const PHI_POLY: [u32; 7] = [
 /// ```
 #[inline(always)]
 pub fn phi_poly(x: f32) -> f32 {
-    let [c0, c1, c2, c3, c4, c5, c6] = PHI_POLY.map(f32::from_bits);
+    phi_poly_in(x)
+}
+
+/// [`phi_poly`] in any [`Num`] (the one `φ` polynomial of every kernel: `f32`, lanes).
+#[inline(always)]
+pub(crate) fn phi_poly_in<T: Num>(x: T) -> T {
+    let [b0, b1, b2, b3, b4, b5, b6] = PHI_POLY;
+    let c = |b: u32| T::from_f32(f32::from_bits(b));
+    let (c0, c1, c2, c3, c4, c5, c6) = (c(b0), c(b1), c(b2), c(b3), c(b4), c(b5), c(b6));
     let x2 = x * x;
     let x4 = x2 * x2;
     let low = (c0 + c1 * x) + (c2 + c3 * x) * x2;
@@ -130,14 +138,12 @@ pub trait Correction: sealed::Sealed + Copy + core::fmt::Debug {
     /// Applies the correction to one sample.
     fn apply(&self, s: Sample) -> Sample;
 
-    /// [`apply`](Self::apply) to four samples in lanes (`c` associated color, `a` opacity),
-    /// lane by lane (bit-identical).
+    /// [`apply`](Self::apply) in any [`Lanes`] (`c` associated color, `a` opacity), lane by
+    /// lane (bit-identical).
     #[inline(always)]
-    fn apply_x4(&self, s: Interp<F32x4>) -> Interp<F32x4> {
-        pack_interp(unpack_interp(s).map(|x| {
-            let y = self.apply(Sample { c: x.c, a: x.a });
-            Interp { c: y.c, a: y.a }
-        }))
+    #[doc(hidden)]
+    fn apply_in<T: Lanes>(&self, s: Interp<T>) -> Interp<T> {
+        T::per_lane(s, |x| self.apply(x.into()).into())
     }
 }
 
@@ -154,7 +160,7 @@ impl Correction for Uncorrected {
     }
 
     #[inline(always)]
-    fn apply_x4(&self, s: Interp<F32x4>) -> Interp<F32x4> {
+    fn apply_in<T: Lanes>(&self, s: Interp<T>) -> Interp<T> {
         s
     }
 }

@@ -1,5 +1,7 @@
 //! The values that flow between the stages of a kernel.
 
+use crate::lanes::Lanes;
+
 /// An associated (opacity-weighted) color and its opacity: one sample along a ray, or a
 /// composited pixel.
 ///
@@ -27,11 +29,7 @@ impl Sample {
     /// values ≤ 1 can round to `1 + ε`); it never hides more than that for valid input.
     #[inline(always)]
     pub fn clamped(c: [f32; 3], a: f32) -> Self {
-        let a = clamp01(a);
-        Self {
-            c: c.map(|x| clamp_to(x, a)),
-            a,
-        }
+        Self::from(clamped(Interp { c, a }))
     }
 
     /// The straight (displayed) color `C/α`, or black when `α = 0`.
@@ -51,6 +49,34 @@ impl Sample {
                 .c
                 .iter()
                 .all(|&c| c.is_finite() && c >= 0.0 && c <= self.a)
+    }
+}
+
+/// [`Sample::clamped`] in any [`Lanes`] (the one clamp of every kernel's sample): `α` into
+/// `[0, 1]`, each `C̃` into `[0, α]`, NaN to 0.
+#[inline(always)]
+pub(crate) fn clamped<T: Lanes>(i: Interp<T>) -> Interp<T> {
+    let a = i.a.clamp_to(T::ONE);
+    let [r, g, b] = i.c;
+    Interp {
+        c: [r.clamp_to(a), g.clamp_to(a), b.clamp_to(a)],
+        a,
+    }
+}
+
+impl From<Interp<f32>> for Sample {
+    /// The quantities as they are, read as an associated color and its opacity.
+    #[inline(always)]
+    fn from(i: Interp<f32>) -> Self {
+        Self { c: i.c, a: i.a }
+    }
+}
+
+impl From<Sample> for Interp<f32> {
+    /// The sample's color and opacity as quantities.
+    #[inline(always)]
+    fn from(s: Sample) -> Self {
+        Self { c: s.c, a: s.a }
     }
 }
 

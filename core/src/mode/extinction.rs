@@ -1,13 +1,13 @@
 //! `ExtinctionWeighted`: extinction-based sampling (Kraus, Bürger 2008, eqs. 18–23).
 
 use super::{
-    linear_tree, linear_weighted, linear_weighted8_f32, pack_interp, sealed, unpack_interp,
-    weighted_columns_x4, Mode,
+    channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums, Linear,
+    Mode,
 };
-use crate::lanes::F32x4;
+use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
-use crate::opacity::{phi_poly, PHI_POLY_BELOW};
-use crate::sample::{Interp, Sample};
+use crate::opacity::{phi_poly_in, PHI_POLY_BELOW};
+use crate::sample::{clamped, Interp, Sample};
 use crate::voxel::ExtinctionVoxel;
 
 /// Interpolates extinction `τ` and extinction-weighted color `C^τ`, then integrates over the
@@ -58,47 +58,51 @@ impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
 
     #[inline(always)]
     fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
-        weighted_columns_x4(taps, w, |v| v.extinction::<f32>(), false)
+        weighted_sums::<F32x4, Linear, _, 8>(w, taps, |col| {
+            channels_x4(*col, |v| v.extinction::<f32>())
+        })
     }
 
     #[inline(always)]
-    fn finish_x4(&self, i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
-        integrate_step_x4(i, d)
+    fn finish_in<T: Lanes>(&self, i: Interp<T>, d: f32) -> Interp<T> {
+        integrate_in(i, d)
     }
 }
 
-/// [`integrate_step`] for four samples, lane by lane bit-identical to it. Where every lane has
-/// `τd < 1` (the common case), in lanes: `φ` by [`phi_poly`], `α = τd·φ` and `C̃ = C^τ·d·φ`
-/// with the same operations as `integrate_step` and no branch, so that the four lanes
-/// vectorise; otherwise `integrate_step` per lane.
+/// [`integrate_step`] in any [`Lanes`] (the one extinction step of every kernel), lane by
+/// lane bit-identical to it. Where every lane has `x = τd < 1` (the common case), in lanes:
+/// `φ` by [`phi_poly`](crate::opacity::phi_poly), `α = x·φ` and `C̃ = C^τ·(d·φ)`, with no
+/// branch, so that the lanes vectorise; otherwise `integrate_step` per lane, out of line
+/// (with it inlined, `cast` of `ExtinctionWeightedU8` took 28.0–29.0 ns/sample in a probe of
+/// the four-lane path, out of line 21.8; in the eight-lane kernel, inlining the lanes' path
+/// took the packets from 7.1 to 6.4).
 #[inline(always)]
-pub(crate) fn integrate_step_x4(i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
-    let lanes = unpack_interp(i);
-    let x = lanes.map(|l| l.a.max(0.0) * d);
-    if !x.iter().all(|&x| x < PHI_POLY_BELOW) {
-        return integrate_step_per_lane(lanes, d);
+pub(crate) fn integrate_in<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
+    let x = i.a.max0() * T::from_f32(d);
+    if T::all(x.lt(T::from_f32(PHI_POLY_BELOW))) {
+        below_one(i.c, x, d)
+    } else {
+        integrate_per_lane(i, d)
     }
-    let mut out = lanes;
-    for (o, &x) in out.iter_mut().zip(&x) {
-        let phi = phi_poly(x);
-        let g = d * phi;
-        let s = Sample::clamped(o.c.map(|c| c * g), x * phi);
-        *o = Interp { c: s.c, a: s.a };
-    }
-    pack_interp(out)
 }
 
-/// [`integrate_step`] of each lane: [`integrate_step_x4`] where a lane's `τd` is not below 1
-/// (out of line, so that the lanes' path stays small where it is inlined: with it inlined,
-/// `cast` of `ExtinctionWeightedU8` took 28.0–29.0 ns/sample in a probe of the AVX2 build,
-/// out of line 21.8, against 26.8–27.3 with the former `expm1f` in lanes).
+/// The step for `x = τd < 1`: `φ = phi_poly(x)`, `α = x·φ`, `C̃ = C^τ·(d·φ)`, clamped.
+#[inline(always)]
+fn below_one<T: Lanes>(c_tau: [T; 3], x: T, d: f32) -> Interp<T> {
+    let phi = phi_poly_in(x);
+    let g = T::from_f32(d) * phi;
+    let [r, gr, b] = c_tau;
+    clamped(Interp {
+        c: [r * g, gr * g, b * g],
+        a: x * phi,
+    })
+}
+
+/// [`integrate_step`] of each lane ([`integrate_in`] where some lane's `τd` is not below 1).
 #[cold]
 #[inline(never)]
-fn integrate_step_per_lane(lanes: [Interp<f32>; 4], d: f32) -> Interp<F32x4> {
-    pack_interp(lanes.map(|l| {
-        let s = integrate_step(l.c, l.a, d);
-        Interp { c: s.c, a: s.a }
-    }))
+fn integrate_per_lane<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
+    T::per_lane(i, |l| integrate_step(l.c, l.a, d).into())
 }
 
 /// One step of the emission–absorption integral with constant `C^τ` and `τ` over length `d`:
@@ -113,9 +117,7 @@ pub fn integrate_step(c_tau: [f32; 3], tau: f32, d: f32) -> Sample {
     let tau = tau.max(0.0);
     let x = tau * d;
     if x < PHI_POLY_BELOW {
-        let phi = phi_poly(x);
-        let g = d * phi;
-        Sample::clamped(c_tau.map(|c| c * g), x * phi)
+        below_one(c_tau, x, d).into()
     } else {
         let a = -libm::expm1f(-x);
         Sample::clamped(c_tau.map(|c| (c / tau) * a), a)

@@ -1,11 +1,11 @@
 //! `ExtinctionWeightedU8`: extinction-based sampling read straight from 8-bit straight RGBA.
 
 use super::{
-    integrate_step, linear_tree, linear_weighted, linear_weighted8_f32, sealed,
-    weighted_columns_x4, Mode,
+    channels_x4, integrate_step, linear_tree, linear_weighted, linear_weighted8_f32, sealed,
+    weighted_sums, Linear, Mode,
 };
 use crate::error::Error;
-use crate::lanes::F32x4;
+use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::{unorm8, ExtinctionF32, StraightF32, StraightU8};
@@ -182,11 +182,13 @@ impl Mode<StraightU8> for ExtinctionWeightedU8<'_> {
 
     #[inline(always)]
     fn weighted8_x4(&self, taps: &[[StraightU8; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
-        weighted_columns_x4(taps, w, |v| self.channels::<f32>(v), false)
+        weighted_sums::<F32x4, Linear, _, 8>(w, taps, |col| {
+            channels_x4(*col, |v| self.channels::<f32>(v))
+        })
     }
 
     #[inline(always)]
-    fn finish_x4(&self, i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
-        super::extinction::integrate_step_x4(i, d)
+    fn finish_in<T: Lanes>(&self, i: Interp<T>, d: f32) -> Interp<T> {
+        super::extinction::integrate_in(i, d)
     }
 }

@@ -22,6 +22,8 @@ mod post_classified;
 mod preweighted;
 mod separate;
 
+#[cfg(target_arch = "x86_64")]
+pub(crate) use extinction::integrate_in;
 pub use extinction::{integrate_step, ExtinctionWeighted};
 pub use extinction_u8::{ExtinctionWeightedU8, TauTable};
 pub use opacity_weighted::OpacityWeighted;
@@ -29,7 +31,7 @@ pub use post_classified::PostClassified;
 pub use preweighted::Preweighted;
 pub use separate::Separate;
 
-use crate::lanes::{pack, unpack, F32x4};
+use crate::lanes::{pack, unpack, F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::voxel::Voxel;
@@ -109,17 +111,14 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
         pack_interp(out)
     }
 
-    /// [`finish`](Self::finish) for four samples: lane `l` of the result (`c` the associated
-    /// color, `a` the opacity) is bit-identical to `finish` of lane `l` (up to the sign of a
-    /// zero, see [`F32x4::clamp_to`]). The default runs `finish` lane by lane.
+    /// [`finish`](Self::finish) in any [`Lanes`] (`f32`, four or eight lanes): lane `l` of
+    /// the result (`c` the associated color, `a` the opacity) is bit-identical to `finish` of
+    /// lane `l` (up to the sign of a zero, see [`Lanes::clamp_to`]). The default runs `finish`
+    /// lane by lane.
     #[inline(always)]
     #[doc(hidden)]
-    fn finish_x4(&self, i: Interp<F32x4>, d: f32) -> Interp<F32x4> {
-        let lanes = unpack_interp(i).map(|x| {
-            let s = self.finish(x, d);
-            Interp { c: s.c, a: s.a }
-        });
-        pack_interp(lanes)
+    fn finish_in<T: Lanes>(&self, i: Interp<T>, d: f32) -> Interp<T> {
+        T::per_lane(i, |x| self.finish(x, d).into())
     }
 }
 
@@ -137,17 +136,6 @@ pub(crate) fn lane_taps<V: Copy>(taps: &[[V; 4]; 8]) -> [[V; 8]; 4] {
         }
     }
     out
-}
-
-/// `Sample::clamped` in lanes: `α` into `[0, 1]`, each `C̃` into `[0, α]` (NaN ↦ 0).
-#[inline(always)]
-pub(crate) fn clamped_x4(i: Interp<F32x4>) -> Interp<F32x4> {
-    let a = i.a.clamp_to(F32x4::ONE);
-    let [r, g, b] = i.c;
-    Interp {
-        c: [r.clamp_to(a), g.clamp_to(a), b.clamp_to(a)],
-        a,
-    }
 }
 
 /// Four cells as tap columns (the inverse of [`lane_taps`]): `out[k][l] = cells[l][k]`.
@@ -198,74 +186,97 @@ pub(crate) fn channels_x4<V: Copy>(
     )
 }
 
-/// `Σ w_k·u_k` over the tap columns of a packet, tap by tap from the last (the order of
-/// [`dot`], so lane `l` is bit-identical to the scalar sums), with `u_k = f(column k)` as
-/// `(c, a)` lanes and the weight of tap `k` being `weight(w_k, u_k)`: `w_k` itself for the
-/// linear modes, `ω_k = w_k·α_k` for [`OpacityWeighted`], which then sums `ω` for `α`
-/// (`a_is_weight`). One column is live at a time, so the four accumulators stay in
-/// registers.
-#[inline(always)]
-pub(crate) fn weighted_columns_x4<V: Copy>(
-    taps: &[[V; 4]; 8],
-    w: &[F32x4; 8],
-    f: impl Fn(V) -> ([f32; 3], f32),
-    opacity_weighted: bool,
-) -> Interp<F32x4> {
-    let mut acc = Interp {
-        c: [F32x4::ZERO; 3],
-        a: F32x4::ZERO,
-    };
-    for (k, (col, wk)) in taps.iter().zip(w.iter()).rev().enumerate() {
-        let ([r, g, b], a) = channels_x4(*col, &f);
-        // ω = w·α (then α = Σ ω, and the colors are summed with ω), or w itself.
-        let (wt, a) = if opacity_weighted {
-            (*wk * a, F32x4::ONE)
-        } else {
-            (*wk, a)
-        };
-        let [cr, cg, cb] = acc.c;
-        acc = if k == 0 {
-            Interp {
-                c: [wt * r, wt * g, wt * b],
-                a: wt * a,
-            }
-        } else {
-            Interp {
-                c: [cr + wt * r, cg + wt * g, cb + wt * b],
-                a: acc.a + wt * a,
-            }
-        };
-    }
-    acc
+/// How a mode weights a tap in its sums ([`weighted_sums`]): from the tap's weight `w` and
+/// its opacity-like channel `a`, the weight of its colors and its term of the `a` sum.
+pub(crate) trait Weighting {
+    /// `(weight of the colors, term of the a sum)`.
+    fn tap<T: Num>(w: T, a: T) -> (T, T);
 }
 
-/// `Σ w_i·x_i`, summed from the *last* tap down to tap 0 (8M 7A for 8 taps).
+/// The linear modes' weighting: the colors by `w`, the sum of `w·a`.
+pub(crate) enum Linear {}
+
+impl Weighting for Linear {
+    #[inline(always)]
+    fn tap<T: Num>(w: T, a: T) -> (T, T) {
+        (w, w * a)
+    }
+}
+
+/// [`OpacityWeighted`]'s: `ω = w·α`, the colors by `ω`, the sum of `ω` (eqs. 9–12).
+pub(crate) enum ByOpacity {}
+
+impl Weighting for ByOpacity {
+    #[inline(always)]
+    fn tap<T: Num>(w: T, a: T) -> (T, T) {
+        let omega = w * a;
+        (omega, omega)
+    }
+}
+
+/// The sums of weighted products of every mode, written once for every number type (`f32`,
+/// `f64`, the lanes): over the `K` taps from the *last* down to tap 0, with `(c, a) =
+/// f(tap)` and the weights `W::tap(w_k, a)`, `Σ w_c·c` per color and `Σ` of the `a` terms
+/// (`K`M `K−1`A each, and `K`M for `ω` by [`ByOpacity`]). Each tap is converted when its turn
+/// comes, so the accumulators and one tap's channels are live at a time (in registers, in
+/// the lane kernels).
 ///
 /// The order is part of the contract with the filters: they compute weight 0 as `1 − S`, with
-/// `S` the sum of the other weights in exactly this order, so that for `x_i = 1` the result is
+/// `S` the sum of the other weights in exactly this order, so that for `x_i = 1` the sum is
 /// exactly 1 (`fl(S + fl(1 − S)) = 1` for every `S ∈ [0, 2]`). A constant opaque region then
 /// interpolates to `α = 1` exactly, which opacity correction (ill-conditioned at 1) needs.
 #[inline(always)]
-pub(crate) fn dot<T: Num, X, const K: usize>(w: &[T; K], xs: &[X; K], f: impl Fn(&X) -> T) -> T {
-    let mut it = w.iter().zip(xs.iter()).rev();
-    match it.next() {
-        Some((w0, x0)) => it.fold(*w0 * f(x0), |acc, (w, x)| acc + *w * f(x)),
-        None => T::ZERO,
+pub(crate) fn weighted_sums<T: Num, W: Weighting, X, const K: usize>(
+    w: &[T; K],
+    taps: &[X; K],
+    mut f: impl FnMut(&X) -> ([T; 3], T),
+) -> Interp<T> {
+    let mut term = |wk: T, x: &X| {
+        let ([r, g, b], a) = f(x);
+        let (wc, wa) = W::tap(wk, a);
+        Interp {
+            c: [wc * r, wc * g, wc * b],
+            a: wa,
+        }
+    };
+    let add = |acc: Interp<T>, t: Interp<T>| {
+        let ([cr, cg, cb], [tr, tg, tb]) = (acc.c, t.c);
+        Interp {
+            c: [cr + tr, cg + tg, cb + tb],
+            a: acc.a + t.a,
+        }
+    };
+    // The eight taps of a trilinear cell written out, so that every instance (the lane
+    // kernels' above all) is straight-line code whatever the compiler's unrolling decides for
+    // a loop (which depends on the size of the taps' conversion): a guarantee, not a measured
+    // gain (the quick passes of the two forms differed by less than their noise).
+    if let (Ok(w8), Ok(x8)) = (<&[T; 8]>::try_from(&w[..]), <&[X; 8]>::try_from(&taps[..])) {
+        let [w0, w1, w2, w3, w4, w5, w6, w7] = *w8;
+        let [x0, x1, x2, x3, x4, x5, x6, x7] = x8;
+        let acc = term(w7, x7);
+        let acc = add(acc, term(w6, x6));
+        let acc = add(acc, term(w5, x5));
+        let acc = add(acc, term(w4, x4));
+        let acc = add(acc, term(w3, x3));
+        let acc = add(acc, term(w2, x2));
+        let acc = add(acc, term(w1, x1));
+        return add(acc, term(w0, x0));
     }
+    let mut it = w.iter().zip(taps.iter()).rev();
+    let Some((wl, xl)) = it.next() else {
+        return Interp {
+            c: [T::ZERO; 3],
+            a: T::ZERO,
+        };
+    };
+    let first = term(*wl, xl);
+    it.fold(first, |acc, (wk, x)| add(acc, term(*wk, x)))
 }
 
-/// `Σ x_i` in the order of [`dot`] (last to first).
-#[inline(always)]
-pub(crate) fn sum<T: Num, const K: usize>(xs: &[T; K]) -> T {
-    let mut it = xs.iter().rev();
-    match it.next() {
-        Some(x0) => it.fold(*x0, |acc, x| acc + *x),
-        None => T::ZERO,
-    }
-}
-
-/// `Σ w_i·u_i` over four lanes per tap, summed from the last tap down like [`dot`]: lane `k`
-/// of the result is bit-identical to `dot(w, u, |u| u[k])`.
+/// `Σ w_i·u_i` over four lanes per tap, summed from the last tap down: lane `k` of the result
+/// is bit-identical to the [`Linear`] sum of channel `k`. The [`weighted_sums`] of one
+/// [`F32x4`] per tap holding its four channels (its `a` sum; the colors, unused, are zeros
+/// the compiler drops): the form the scalar hot path vectorises over channels.
 #[inline(always)]
 pub(crate) fn dot_lanes8(w: &[f32; 8], u: &[[f32; 4]; 8]) -> [f32; 4] {
     let mut it = w.iter().zip(u.iter()).rev();
@@ -314,14 +325,7 @@ pub(crate) fn linear_weighted<T: Num, const K: usize>(
     ch: &[([T; 3], T); K],
     w: &[T; K],
 ) -> Interp<T> {
-    Interp {
-        c: [
-            dot(w, ch, |v| v.0[0]),
-            dot(w, ch, |v| v.0[1]),
-            dot(w, ch, |v| v.0[2]),
-        ],
-        a: dot(w, ch, |v| v.1),
-    }
+    weighted_sums::<T, Linear, _, K>(w, ch, |v| *v)
 }
 
 /// Interpolates four linear channels `(c, a)` as lerp trees (28M 56A).

@@ -1,9 +1,9 @@
 //! `OpacityWeighted`: opacity-weighted color interpolation (Wittenbrink, Malzbender, Goss 1998).
 
-use super::{clamped_x4, dot, dot_lanes8, lerp8, sealed, sum, weighted_columns_x4, Mode};
-use crate::lanes::F32x4;
+use super::{channels_x4, dot_lanes8, lerp8, sealed, weighted_sums, ByOpacity, Mode};
+use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
-use crate::sample::{Interp, Sample};
+use crate::sample::{clamped, Interp, Sample};
 use crate::voxel::StraightVoxel;
 
 /// Interpolates colors weighted by opacity (eqs. 9–12): `ω_i = w_i·α_i`, `α = Σ ω`,
@@ -22,46 +22,29 @@ use crate::voxel::StraightVoxel;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct OpacityWeighted;
 
-/// Eqs. 9–12 over straight channels `(C_i, α_i)` with weights `w_i` (`K`M for `ω`, then
-/// `K−1`A for `α` and `K`M `K−1`A per color), for any [`Num`]: `f32`, `f64`, lanes.
-#[inline(always)]
-fn opacity_weighted<T: Num, const K: usize>(ch: &[([T; 3], T); K], w: &[T; K]) -> Interp<T> {
-    // ω_i = w_i·α_i: K multiplications.
-    let mut omega = *w;
-    for (o, v) in omega.iter_mut().zip(ch.iter()) {
-        *o = *o * v.1;
-    }
-    // α = Σ ω_i: K−1 additions, in the order of `dot` (exactly 1 where all α_i = 1).
-    let a = sum(&omega);
-    Interp {
-        c: [
-            dot(&omega, ch, |v| v.0[0]),
-            dot(&omega, ch, |v| v.0[1]),
-            dot(&omega, ch, |v| v.0[2]),
-        ],
-        a,
-    }
-}
-
 impl sealed::Sealed for OpacityWeighted {}
 
 impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
     const OPACITY_BASED: bool = true;
     const OPACITY_WEIGHTED: bool = true;
 
+    /// Eqs. 9–12 over straight channels `(C_i, α_i)` with weights `w_i` (`K`M for `ω`, then
+    /// `K−1`A for `α` and `K`M `K−1`A per color): [`weighted_sums`] by [`ByOpacity`].
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
-        opacity_weighted(&taps.map(|v| v.straight::<T>()), w)
+        weighted_sums::<T, ByOpacity, _, K>(w, taps, |v| v.straight::<T>())
     }
 
     #[inline(always)]
     fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
-        weighted_columns_x4(taps, w, |v| v.straight::<f32>(), true)
+        weighted_sums::<F32x4, ByOpacity, _, 8>(w, taps, |col| {
+            channels_x4(*col, |v| v.straight::<f32>())
+        })
     }
 
     #[inline(always)]
-    fn finish_x4(&self, i: Interp<F32x4>, _d: f32) -> Interp<F32x4> {
-        clamped_x4(i)
+    fn finish_in<T: Lanes>(&self, i: Interp<T>, _d: f32) -> Interp<T> {
+        clamped(i)
     }
 
     #[inline(always)]
@@ -97,7 +80,7 @@ impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
     }
 
     #[inline(always)]
-    fn finish(&self, i: Interp<f32>, _d: f32) -> Sample {
-        Sample::clamped(i.c, i.a)
+    fn finish(&self, i: Interp<f32>, d: f32) -> Sample {
+        <Self as Mode<V>>::finish_in(self, i, d).into()
     }
 }

@@ -1,6 +1,6 @@
 //! `PostClassified`: interpolate the scalar, then classify.
 
-use super::{dot, lerp8, sealed, Mode};
+use super::{lerp8, sealed, weighted_sums, Linear, Mode};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::transfer::TransferFunction;
@@ -36,10 +36,8 @@ impl<V: ScalarVoxel, const N: usize> Mode<V> for PostClassified<'_, N> {
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
-        Interp {
-            c: [T::ZERO; 3],
-            a: dot(w, taps, |v| v.scalar::<T>()),
-        }
+        // The scalar in `a` (the colors, zeros, are dropped by the compiler).
+        weighted_sums::<T, Linear, _, K>(w, taps, |v| ([T::ZERO; 3], v.scalar::<T>()))
     }
 
     #[inline(always)]

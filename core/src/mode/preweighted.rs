@@ -1,12 +1,12 @@
 //! `Preweighted`: interpolation of stored associated colors (Drebin 1988).
 
 use super::{
-    clamped_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_columns_x4,
+    channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums, Linear,
     Mode,
 };
-use crate::lanes::F32x4;
+use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
-use crate::sample::{Interp, Sample};
+use crate::sample::{clamped, Interp, Sample};
 use crate::voxel::AssociatedVoxel;
 
 /// Interpolates stored associated colors: `α = Σ wα`, `C̃ = Σ wC̃`.
@@ -46,17 +46,19 @@ impl<V: AssociatedVoxel> Mode<V> for Preweighted {
     }
 
     #[inline(always)]
-    fn finish(&self, i: Interp<f32>, _d: f32) -> Sample {
-        Sample::clamped(i.c, i.a)
+    fn finish(&self, i: Interp<f32>, d: f32) -> Sample {
+        <Self as Mode<V>>::finish_in(self, i, d).into()
     }
 
     #[inline(always)]
     fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
-        weighted_columns_x4(taps, w, |v| v.associated::<f32>(), false)
+        weighted_sums::<F32x4, Linear, _, 8>(w, taps, |col| {
+            channels_x4(*col, |v| v.associated::<f32>())
+        })
     }
 
     #[inline(always)]
-    fn finish_x4(&self, i: Interp<F32x4>, _d: f32) -> Interp<F32x4> {
-        clamped_x4(i)
+    fn finish_in<T: Lanes>(&self, i: Interp<T>, _d: f32) -> Interp<T> {
+        clamped(i)
     }
 }

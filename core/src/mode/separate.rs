@@ -1,11 +1,12 @@
 //! `Separate`: color and opacity interpolated independently (Levoy 1988/1990).
 
 use super::{
-    linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_columns_x4, Mode,
+    channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums, Linear,
+    Mode,
 };
-use crate::lanes::F32x4;
+use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
-use crate::sample::{clamp01, Interp, Sample};
+use crate::sample::{clamped, Interp, Sample};
 use crate::voxel::StraightVoxel;
 
 /// Interpolates straight color and opacity separately, then associates:
@@ -43,22 +44,23 @@ impl<V: StraightVoxel> Mode<V> for Separate {
     }
 
     #[inline(always)]
-    fn finish(&self, i: Interp<f32>, _d: f32) -> Sample {
-        let a = clamp01(i.a);
-        Sample::clamped(i.c.map(|c| c * a), a)
+    fn finish(&self, i: Interp<f32>, d: f32) -> Sample {
+        <Self as Mode<V>>::finish_in(self, i, d).into()
     }
 
     #[inline(always)]
     fn weighted8_x4(&self, taps: &[[V; 4]; 8], w: &[F32x4; 8]) -> Interp<F32x4> {
-        weighted_columns_x4(taps, w, |v| v.straight::<f32>(), false)
+        weighted_sums::<F32x4, Linear, _, 8>(w, taps, |col| {
+            channels_x4(*col, |v| v.straight::<f32>())
+        })
     }
 
+    /// `α` clamped, `C̃ = C·α`, then [`Sample::clamped`] (which clamps `α` again).
     #[inline(always)]
-    fn finish_x4(&self, i: Interp<F32x4>, _d: f32) -> Interp<F32x4> {
-        // As `finish`: α clamped, `C̃ = C·α`, then `Sample::clamped` (which clamps α again).
-        let a = i.a.clamp_to(F32x4::ONE);
+    fn finish_in<T: Lanes>(&self, i: Interp<T>, _d: f32) -> Interp<T> {
+        let a = i.a.clamp_to(T::ONE);
         let [r, g, b] = i.c;
-        super::clamped_x4(Interp {
+        clamped(Interp {
             c: [r * a, g * a, b * a],
             a,
         })

@@ -18,7 +18,7 @@
 use core::marker::PhantomData;
 
 use crate::arch::{in_isa, Isa};
-use crate::composite::{back_to_front, front_to_back, over, Order, Termination};
+use crate::composite::{back_to_front, front_to_back, front_to_back_in, over, Order, Termination};
 use crate::error::Error;
 use crate::filter::Filter;
 use crate::lanes::F32x4;
@@ -306,6 +306,7 @@ where
     }
 
     /// The ray's sample range: the first sample's `t`, and the sample count.
+    #[inline(never)]
     fn samples(&self, ray: &Ray) -> (f32, u32) {
         let Some((t0, t1)) = ray.clip(self.volume.dims()) else {
             return (0.0, 0);
@@ -365,7 +366,7 @@ where
                 let keep = pos.map(|p| !self.skip.empty(p));
                 if keep.iter().any(|&k| k) {
                     let i = F::interpolate_x4(&self.mode, &self.volume, pos);
-                    let s = unpack_interp(corr.apply_x4(self.mode.finish_x4(i, d)));
+                    let s = unpack_interp(corr.apply_in(self.mode.finish_in(i, d)));
                     for (l, (s, k)) in s.iter().zip(keep).enumerate() {
                         if k {
                             acc = front_to_back(acc, Sample { c: s.c, a: s.a });

@@ -165,19 +165,9 @@ where
                     }
                 }
                 let i = F::interpolate_x4(&self.mode, &self.volume, pos);
-                let s = corr.apply_x4(self.mode.finish_x4(i, d));
+                let s = corr.apply_in(self.mode.finish_in(i, d));
                 // `front_to_back` in lanes, kept only in the active lanes.
-                let t = F32x4::ONE - acc.a;
-                let [r, g, b] = acc.c;
-                let [sr, sg, sb] = s.c;
-                acc = Interp {
-                    c: [
-                        F32x4::select(active, r + t * sr, r),
-                        F32x4::select(active, g + t * sg, g),
-                        F32x4::select(active, b + t * sb, b),
-                    ],
-                    a: F32x4::select(active, acc.a + t * s.a, acc.a),
-                };
+                acc = front_to_back_in(acc, s, active);
                 let a = acc.a.to_array();
                 for (((l, k), a), &act) in live.iter_mut().zip(count.iter_mut()).zip(a).zip(&active)
                 {

@@ -79,33 +79,29 @@ pub(super) fn march8_avx2<
     let ione = _mm256_set1_epi32(1);
     let (sx, sy) = (_mm256_set1_epi32(nx), _mm256_set1_epi32(nx * ny));
 
-    let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
-    // The sample of the sums `s`, `Sample::clamped`: `α` into [0, 1] (NaN to 0), each color
-    // into [0, α]; `Separate` first weights the colors by the clamped `α` (its `finish`),
-    // the extinction modes integrate the step (`integrate_step`).
+    // The sample of the sums `s`: the mode's `finish_in` in `F32x8` lanes (`Sample::clamped`
+    // of the sums for `OpacityWeighted`; `Separate` first weights the colors by the clamped
+    // `α`; the extinction modes integrate the step, `integrate_in`).
     let finish = |s: [__m256; 4]| {
         if MODE == INTEGER_OW {
             // (The sample itself.)
             return s;
         }
-        let (a, c) = if extinction(MODE) {
-            let (c, a) = extinction_step(s, d);
-            (_mm256_min_ps(_mm256_max_ps(a, zf), one), c)
+        let i = interp(s);
+        let i = if extinction(MODE) {
+            integrate_in(i, d)
+        } else if MODE == SEPARATE {
+            <Separate as Mode<StraightU8>>::finish_in(&Separate, i, d)
         } else {
-            let a = _mm256_min_ps(_mm256_max_ps(s[3], zf), one);
-            if MODE == SEPARATE {
-                (a, [mul(s[0], a), mul(s[1], a), mul(s[2], a)])
-            } else {
-                (a, [s[0], s[1], s[2]])
-            }
+            <OpacityWeighted as Mode<StraightU8>>::finish_in(&OpacityWeighted, i, d)
         };
-        let clamp = |c| _mm256_min_ps(_mm256_max_ps(c, zf), a);
-        [clamp(c[0]), clamp(c[1]), clamp(c[2]), a]
+        vectors(i)
     };
     // `front_to_back` of sample `[cr, cg, cb, a]` onto `acc`, kept in the live lanes only.
-    let over = |acc: [__m256; 4], [cr, cg, cb, a]: [__m256; 4], live: __m256| {
-        let [ar, ag, ab, aa] = acc;
+    let over = |acc: [__m256; 4], s: [__m256; 4], live: __m256| {
         if MODE == INTEGER_OW {
+            let [ar, ag, ab, aa] = acc;
+            let [cr, cg, cb, a] = s;
             // `fixed_point::front_to_back`: `T = ONE − A`, each channel plus
             // `⌊(T·x + ONE/2)/ONE⌋` (`T·x + ONE/2 < 2^32`: the wrapping `i32` product is the
             // `u32` one). A lane that is not live takes `T = 0`, whose increments are
@@ -120,13 +116,7 @@ pub(super) fn march8_avx2<
             };
             return [step(ar, cr), step(ag, cg), step(ab, cb), step(aa, a)];
         }
-        let tr = sub(one, aa);
-        [
-            _mm256_blendv_ps(ar, add(ar, mul(tr, cr)), live),
-            _mm256_blendv_ps(ag, add(ag, mul(tr, cg)), live),
-            _mm256_blendv_ps(ab, add(ab, mul(tr, cb)), live),
-            _mm256_blendv_ps(aa, add(aa, mul(tr, a)), live),
-        ]
+        vectors(front_to_back_in(interp(acc), interp(s), Mask8(live)))
     };
 
     // The lanes still live after sample `i` has been composited onto `acc`: a lane stops
@@ -305,25 +295,10 @@ pub(super) fn march8_avx2<
             _mm256_add_epi32(x1, r11),
         ];
 
-        // `filter::trilinear_weights`, operation for operation.
-        let xy = mul(fx, fy);
-        let xz = mul(fx, fz);
-        let yz = mul(fy, fz);
-        let xyz = mul(xy, fz);
-        let w110 = sub(xy, xyz);
-        let w101 = sub(xz, xyz);
-        let w011 = sub(yz, xyz);
-        let w100 = add(sub(sub(fx, xy), xz), xyz);
-        let w010 = add(sub(sub(fy, xy), yz), xyz);
-        let w001 = add(sub(sub(fz, xz), yz), xyz);
-        let rest = add(
-            add(add(add(add(add(xyz, w011), w101), w001), w110), w010),
-            w100,
-        );
-        let w000 = sub(one, rest);
-        let w = [w000, w100, w010, w110, w001, w101, w011, xyz];
+        // `filter::trilinear_weights` in `F32x8` lanes.
+        let w = trilinear_weights([F32x8(fx), F32x8(fy), F32x8(fz)]);
 
-        // The taps' channels, then the sums from the last tap down (`mode::dot`). With the
+        // The taps' channels, then the sums from the last tap down (`mode::weighted_sums`). With the
         // reuse, the channels are read only where the packet has moved on (here rather than in
         // a `Cell` method: a `target_feature` function was not inlined into its caller, and
         // the call cost about 5 % of the kernel's time). The branch on `inside` is taken once
@@ -360,12 +335,10 @@ pub(super) fn march8_avx2<
                 };
                 int_sums(|j| cell.tap(first(j)), map3(f, |v| _mm256_castps_si256(v)))
             } else {
-                mode_sums::<MODE>(|p| [cell.tap(2 * p), cell.tap(2 * p + 1)], &w)
+                mode_sums::<MODE>(|k| cell.tap(k), &w)
             }
         } else {
             let taps = Taps::new(data, at);
-            let pair =
-                |[lo, hi]: [__m256i; 2]| [channels::<MODE>(lo, taus), channels::<MODE>(hi, taus)];
             if MODE == INTEGER_OW {
                 // Pairs along x: taps `2j` and `2j + 1`.
                 let f = map3([fx, fy, fz], |v| _mm256_castps_si256(v));
@@ -379,23 +352,19 @@ pub(super) fn march8_avx2<
                     int_sums(|j| int_pair(load(2 * j), load(2 * j + 1)), f)
                 }
             } else if taps.pairs() {
-                mode_sums::<MODE>(|p| pair(taps.load_pair(2 * p)), &w)
+                // The four pairs' words first (eight registers), then each tap's channels when
+                // the sums come to it.
+                let [[w0, w1], [w2, w3], [w4, w5], [w6, w7]] =
+                    map4([0, 2, 4, 6], |k| taps.load_pair(k));
+                let words = [w0, w1, w2, w3, w4, w5, w6, w7];
+                let word = |k: usize| words.get(k).copied().unwrap_or(zero);
+                mode_sums::<MODE>(|k| channels::<MODE>(word(k), taus), &w)
             } else if taps.inside() {
-                let two = |k| {
-                    [
-                        taps.channels::<MODE, true>(k, taus),
-                        taps.channels::<MODE, true>(k + 1, taus),
-                    ]
-                };
-                mode_sums::<MODE>(|p| two(2 * p), &w)
+                let c = taps.all_channels::<MODE, true>(taus);
+                mode_sums::<MODE>(|k| c.get(k).copied().unwrap_or([zf; 4]), &w)
             } else {
-                let two = |k| {
-                    [
-                        taps.channels::<MODE, false>(k, taus),
-                        taps.channels::<MODE, false>(k + 1, taus),
-                    ]
-                };
-                mode_sums::<MODE>(|p| two(2 * p), &w)
+                let c = taps.all_channels::<MODE, false>(taus);
+                mode_sums::<MODE>(|k| c.get(k).copied().unwrap_or([zf; 4]), &w)
             }
         };
         // The sums to composite now, of sample `j − lag`: this step's, or (pipelined) the

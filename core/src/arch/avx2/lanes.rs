@@ -117,3 +117,163 @@ pub(super) const RECIP255: u32 = 0x0101_0101;
 
 /// `fixed_point::ONE` (opacity 1 in U8.8) in an `i32` lane.
 pub(super) const INT_ONE: i32 = crate::fixed_point::ONE as i32;
+
+/// Eight `f32` lanes in an AVX2 vector: the [`Lanes`] instance of the eight-lane kernels, so
+/// that the portable generic code (`filter::trilinear_weights`, the modes' sums and finishes,
+/// the extinction step, the front-to-back step) runs in them unchanged, each lane doing the
+/// `f32` operations of the scalar kernel in the same order (no fused multiply-add).
+///
+/// Private to `arch::avx2`: its values are made and used only by this module's kernels, all
+/// of which run inside `#[target_feature(enable = "avx2,fma")]` functions entered through an
+/// [`Avx2`] token, which exists only where the CPU has AVX2 and FMA. That is the proof of
+/// every `unsafe` block of its operations (each an AVX intrinsic, which the operation, an
+/// `#[inline(always)]` function, hands to that caller).
+#[derive(Clone, Copy)]
+pub(super) struct F32x8(pub(super) __m256);
+
+/// One flag per lane of an [`F32x8`]: all ones or all zeros.
+#[derive(Clone, Copy)]
+pub(super) struct Mask8(pub(super) __m256);
+
+impl F32x8 {
+    /// The lanes as an array (a bit cast, no instruction set needed).
+    #[inline(always)]
+    pub(super) fn to_array(self) -> [f32; LANES] {
+        // SAFETY: a bit cast between two 32-byte plain-data types, every bit pattern valid in
+        // both.
+        unsafe { core::mem::transmute::<__m256, [f32; LANES]>(self.0) }
+    }
+
+    /// Lanes from an array (a bit cast).
+    #[inline(always)]
+    pub(super) fn from_array(a: [f32; LANES]) -> Self {
+        // SAFETY: as in `to_array`.
+        Self(unsafe { core::mem::transmute::<[f32; LANES], __m256>(a) })
+    }
+}
+
+impl core::ops::Add for F32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, rhs: Self) -> Self {
+        // SAFETY: the CPU has AVX2 (see `F32x8`).
+        Self(unsafe { _mm256_add_ps(self.0, rhs.0) })
+    }
+}
+
+impl core::ops::Sub for F32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, rhs: Self) -> Self {
+        // SAFETY: the CPU has AVX2 (see `F32x8`).
+        Self(unsafe { _mm256_sub_ps(self.0, rhs.0) })
+    }
+}
+
+impl core::ops::Mul for F32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, rhs: Self) -> Self {
+        // SAFETY: the CPU has AVX2 (see `F32x8`).
+        Self(unsafe { _mm256_mul_ps(self.0, rhs.0) })
+    }
+}
+
+impl crate::num::Num for F32x8 {
+    const ZERO: Self = Self(
+        // SAFETY: as in `F32x8::to_array`.
+        unsafe { core::mem::transmute::<[f32; LANES], __m256>([0.0; LANES]) },
+    );
+    const ONE: Self = Self(
+        // SAFETY: as in `F32x8::to_array`.
+        unsafe { core::mem::transmute::<[f32; LANES], __m256>([1.0; LANES]) },
+    );
+    #[inline(always)]
+    fn from_f32(x: f32) -> Self {
+        // SAFETY: the CPU has AVX2 (see `F32x8`).
+        Self(unsafe { _mm256_set1_ps(x) })
+    }
+}
+
+impl crate::lanes::Lanes for F32x8 {
+    type Mask = Mask8;
+
+    #[inline(always)]
+    fn clamp_to(self, hi: Self) -> Self {
+        // `max` returns its second operand where either is NaN: NaN to 0, as the scalar
+        // `x.max(0.0).min(hi)`.
+        // SAFETY: the CPU has AVX2 (see `F32x8`).
+        Self(unsafe { _mm256_min_ps(_mm256_max_ps(self.0, _mm256_setzero_ps()), hi.0) })
+    }
+
+    #[inline(always)]
+    fn max0(self) -> Self {
+        // SAFETY: the CPU has AVX2 (see `F32x8`).
+        Self(unsafe { _mm256_max_ps(self.0, _mm256_setzero_ps()) })
+    }
+
+    #[inline(always)]
+    fn lt(self, other: Self) -> Mask8 {
+        // SAFETY: the CPU has AVX2 (see `F32x8`).
+        Mask8(unsafe { _mm256_cmp_ps::<_CMP_LT_OQ>(self.0, other.0) })
+    }
+
+    #[inline(always)]
+    fn all(m: Mask8) -> bool {
+        // SAFETY: the CPU has AVX2 (see `F32x8`).
+        unsafe { _mm256_movemask_ps(m.0) == 0xff }
+    }
+
+    #[inline(always)]
+    fn select(m: Mask8, a: Self, b: Self) -> Self {
+        // SAFETY: the CPU has AVX2 (see `F32x8`).
+        Self(unsafe { _mm256_blendv_ps(b.0, a.0, m.0) })
+    }
+
+    #[inline(always)]
+    fn per_lane(
+        i: crate::sample::Interp<Self>,
+        f: impl Fn(crate::sample::Interp<f32>) -> crate::sample::Interp<f32>,
+    ) -> crate::sample::Interp<Self> {
+        let [r, g, b] = i.c;
+        let (r, g, b, a) = (r.to_array(), g.to_array(), b.to_array(), i.a.to_array());
+        let mut out = [[0.0f32; LANES]; 4];
+        let [o0, o1, o2, oa] = &mut out;
+        let lanes_in = r.into_iter().zip(g).zip(b).zip(a);
+        let lanes_out = o0
+            .iter_mut()
+            .zip(o1.iter_mut())
+            .zip(o2.iter_mut())
+            .zip(oa.iter_mut());
+        for ((((r, g), b), a), (((or, og), ob), oa)) in lanes_in.zip(lanes_out) {
+            let s = f(crate::sample::Interp { c: [r, g, b], a });
+            [*or, *og, *ob] = s.c;
+            *oa = s.a;
+        }
+        let [r, g, b, a] = out;
+        crate::sample::Interp {
+            c: [
+                F32x8::from_array(r),
+                F32x8::from_array(g),
+                F32x8::from_array(b),
+            ],
+            a: F32x8::from_array(a),
+        }
+    }
+}
+
+/// Four vectors `[c₀, c₁, c₂, a]` as the quantities of a sample in [`F32x8`] lanes.
+#[inline(always)]
+pub(super) fn interp([r, g, b, a]: [__m256; 4]) -> crate::sample::Interp<F32x8> {
+    crate::sample::Interp {
+        c: [F32x8(r), F32x8(g), F32x8(b)],
+        a: F32x8(a),
+    }
+}
+
+/// The inverse of [`interp`].
+#[inline(always)]
+pub(super) fn vectors(i: crate::sample::Interp<F32x8>) -> [__m256; 4] {
+    let [r, g, b] = i.c;
+    [r.0, g.0, b.0, i.a.0]
+}

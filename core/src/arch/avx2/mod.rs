@@ -87,10 +87,12 @@
 
 use core::arch::x86_64::*;
 
-use crate::composite::front_to_back;
+use crate::composite::{front_to_back, front_to_back_in};
+use crate::filter::trilinear_weights;
 use crate::fixed_point::{front_to_back as int_front_to_back, IntSample};
-use crate::mode::integrate_step;
-use crate::opacity::{PHI_POLY, PHI_POLY_BELOW};
+use crate::mode::{
+    integrate_in, weighted_sums, ByOpacity, Linear, Mode, OpacityWeighted, Separate,
+};
 use crate::ray::Ray;
 use crate::sample::Sample;
 use crate::volume::Volume;

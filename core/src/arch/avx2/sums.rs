@@ -1,5 +1,5 @@
-//! Each mode's sums over the eight taps in lanes (float and exact integer), and the
-//! extinction step.
+//! Each mode's sums over the eight taps in lanes: the float ones `mode::weighted_sums` in
+//! [`F32x8`] lanes, the exact integer ones of `OpacityWeighted` reordered for `vpmaddwd`.
 
 use core::arch::x86_64::*;
 
@@ -103,103 +103,24 @@ pub(super) fn int_sums(pair: impl Fn(usize) -> [__m256; 4], f: [__m256i; 3]) -> 
     ]
 }
 
-/// The mode's sums over the taps from the last down (`mode::dot`): `OpacityWeighted` weights
-/// the colors and sums by `ω = w·α` (then `α = Σ ω`); `Separate` sums `w·C` and `w·α`, and
-/// `ExtinctionWeightedU8` `w·C^τ` and `w·τ` the same way (`mode::dot_lanes8`).
-/// `[Σ r, Σ g, Σ b, Σ α]`, of the channels `pair(p)` of taps `2p` and `2p + 1`.
+/// The mode's sums over the taps from the last down: `mode::weighted_sums` in [`F32x8`]
+/// lanes, by `ω = w·α` for `OpacityWeighted` ([`ByOpacity`]), by `w` for `Separate` and the
+/// extinction modes ([`Linear`]), of the channels `tap(k)` of each tap `k`: `[Σ r, Σ g, Σ b,
+/// Σ α]`.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 pub(super) fn mode_sums<const MODE: u8>(
-    pair: impl Fn(usize) -> [[__m256; 4]; 2],
-    w: &[__m256; 8],
+    tap: impl Fn(usize) -> [__m256; 4],
+    w: &[F32x8; 8],
 ) -> [__m256; 4] {
-    let (add, mul) = (_mm256_add_ps, _mm256_mul_ps);
-    let mut s = [_mm256_setzero_ps(); 4];
-    let [w0, w1, w2, w3, w4, w5, w6, w7] = *w;
-    for (p, [wl, wh]) in [[w0, w1], [w2, w3], [w4, w5], [w6, w7]]
-        .into_iter()
-        .enumerate()
-        .rev()
-    {
-        let [lo, hi] = pair(p);
-        for (first, wk, [r, gr, b, a]) in [(p == 3, wh, hi), (false, wl, lo)] {
-            let (wc, wa) = if MODE != OPACITY_WEIGHTED {
-                (wk, mul(wk, a))
-            } else {
-                let om = mul(wk, a);
-                (om, om)
-            };
-            s = if first {
-                [mul(wc, r), mul(wc, gr), mul(wc, b), wa]
-            } else {
-                [
-                    add(s[0], mul(wc, r)),
-                    add(s[1], mul(wc, gr)),
-                    add(s[2], mul(wc, b)),
-                    add(s[3], wa),
-                ]
-            };
-        }
-    }
-    s
-}
-
-/// `integrate_step(C^τ, τ, d)` per lane before its clamps (which the caller applies; they
-/// leave an already clamped sample as it is): `(C̃, α)` from the sums `[C^τ…, τ]`. Where every
-/// lane's `x = max(τ, 0)·d` lies below 1 ([`PHI_POLY_BELOW`]), in lanes: `φ` by
-/// `opacity::phi_poly`'s operations (its Estrin form, with no fused multiply-add), `α = x·φ`
-/// and `C̃ = C^τ·(d·φ)` as `integrate_step`; otherwise `integrate_step` per lane
-/// ([`extinction_step_per_lane`], out of line: with it inside, this function was not inlined
-/// into the kernel, and inlining it took the packets from 7.1 to 6.4 ns/sample in a probe).
-/// Its chain of dependent operations is short (the polynomial is five deep): with
-/// `libm::expm1f`'s rational form and `φ = α/x` (seventeen deep, two divisions among them) the
-/// packets took 6.2–6.3 ns/sample in a probe, with Horner's form of the polynomial (twelve
-/// deep) 5.75, with Estrin's 5.4–5.5.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-pub(super) fn extinction_step(s: [__m256; 4], d: f32) -> ([__m256; 3], __m256) {
-    let (add, mul) = (_mm256_add_ps, _mm256_mul_ps);
-    let [c0, c1, c2, tau] = s;
-    let k = _mm256_set1_ps;
-    // `tau.max(0.0)` (NaN to 0), `x = τ·d`; `x < 1` fails for NaN too.
-    let x = mul(_mm256_max_ps(tau, _mm256_setzero_ps()), k(d));
-    let below = _mm256_cmp_ps::<_CMP_LT_OQ>(x, k(PHI_POLY_BELOW));
-    if _mm256_movemask_ps(below) != 0xff {
-        return extinction_step_per_lane(s, d);
-    }
-    let [b0, b1, b2, b3, b4, b5, b6] = PHI_POLY;
-    let c = |b: u32| k(f32::from_bits(b));
-    let (p0, p1, p2, p3, p4, p5, p6) = (c(b0), c(b1), c(b2), c(b3), c(b4), c(b5), c(b6));
-    let x2 = mul(x, x);
-    let x4 = mul(x2, x2);
-    let low = add(add(p0, mul(p1, x)), mul(add(p2, mul(p3, x)), x2));
-    let high = add(add(p4, mul(p5, x)), mul(p6, x2));
-    let phi = add(low, mul(high, x4));
-    let g = mul(k(d), phi);
-    ([mul(c0, g), mul(c1, g), mul(c2, g)], mul(x, phi))
-}
-
-/// `integrate_step` per lane: [`extinction_step`] where a lane's `τd` is not below 1 (kept
-/// out of line, so that the lanes' path inlines into the kernel).
-#[cold]
-#[inline(never)]
-#[target_feature(enable = "avx2,fma")]
-pub(super) fn extinction_step_per_lane(s: [__m256; 4], d: f32) -> ([__m256; 3], __m256) {
-    let [c0, c1, c2, tau] = s;
-    let [c0, c1, c2, tau] = [c0, c1, c2, tau].map(|v| array(v));
-    let mut out = [[0.0f32; LANES]; 4];
-    let [o0, o1, o2, oa] = &mut out;
-    let lanes_in = c0.into_iter().zip(c1).zip(c2).zip(tau);
-    let lanes_out = o0
-        .iter_mut()
-        .zip(o1.iter_mut())
-        .zip(o2.iter_mut())
-        .zip(oa.iter_mut());
-    for ((((r, g), b), t), (((or, og), ob), oa)) in lanes_in.zip(lanes_out) {
-        let sample = integrate_step([r, g, b], t, d);
-        [*or, *og, *ob] = sample.c;
-        *oa = sample.a;
-    }
-    let [r, g, b, a] = out.map(|l| lanes(l));
-    ([r, g, b], a)
+    let channels = |&k: &usize| {
+        let [r, g, b, a] = tap(k);
+        ([F32x8(r), F32x8(g), F32x8(b)], F32x8(a))
+    };
+    const TAPS: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+    vectors(if MODE == OPACITY_WEIGHTED {
+        weighted_sums::<F32x8, ByOpacity, _, 8>(w, &TAPS, channels)
+    } else {
+        weighted_sums::<F32x8, Linear, _, 8>(w, &TAPS, channels)
+    })
 }

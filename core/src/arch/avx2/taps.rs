@@ -141,6 +141,27 @@ impl<'d, V: Voxel> Taps<'d, V> {
         }
     }
 
+    /// The channels of all eight taps ([`channels`](Self::channels) of each, called here
+    /// directly: through a closure per tap, the one-ray march of 16-byte extinction voxels
+    /// took 1.18–1.19 of its former time in quick passes, the reads apparently not inlined).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn all_channels<const MODE: u8, const INSIDE: bool>(
+        &self,
+        taus: &[f32; 256],
+    ) -> [[__m256; 4]; 8] {
+        [
+            self.channels::<MODE, INSIDE>(0, taus),
+            self.channels::<MODE, INSIDE>(1, taus),
+            self.channels::<MODE, INSIDE>(2, taus),
+            self.channels::<MODE, INSIDE>(3, taus),
+            self.channels::<MODE, INSIDE>(4, taus),
+            self.channels::<MODE, INSIDE>(5, taus),
+            self.channels::<MODE, INSIDE>(6, taus),
+            self.channels::<MODE, INSIDE>(7, taus),
+        ]
+    }
+
     /// The voxels of tap `k` as little-endian RGBA words; without bounds checks where
     /// `INSIDE` and `inside` (a caller that has tested `inside` passes `INSIDE`, so that the
     /// test here folds away).

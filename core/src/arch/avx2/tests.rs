@@ -113,7 +113,8 @@ fn pairs_check() {
     }
 }
 
-/// `extinction_step`, clamped as the kernel clamps it, is `integrate_step` in every lane:
+/// `integrate_in` in `F32x8` lanes (the kernel's extinction step) is `integrate_step` in
+/// every lane:
 /// packets of sums all below `τd = 1` (the lanes' path: `phi_poly`), among them whole
 /// packets of tiny `τd` (`2⁻³⁰..2⁻¹⁰`) and packets just below 1, and packets with a lane
 /// at or above 1, NaN, infinite or negative `τ` (the per-lane path); colors `C^τ ≤ τ`
@@ -131,7 +132,6 @@ fn extinction_step_is_integrate_step_per_lane() {
 fn extinction_check() {
     let mut next = xorshift(0x9E37_79B9_7F4A_7C15);
     let mut unit = || (next() >> 40) as f32 / (1u64 << 24) as f32;
-    let clamp = |v: __m256, hi: __m256| _mm256_min_ps(_mm256_max_ps(v, _mm256_setzero_ps()), hi);
     for case in 0..20_000 {
         let d = match case % 4 {
             0 => 0.5,
@@ -187,13 +187,13 @@ fn extinction_check() {
                 }
             })
         });
-        let (c, a) = extinction_step(s.map(|v| lanes(v)), d);
-        let a = clamp(a, _mm256_set1_ps(1.0));
-        let c = c.map(|c| array(clamp(c, a)));
-        let a = array(a);
+        let [c, a] = [[s[0], s[1], s[2]], [s[3]; 3]].map(|v| v.map(|v| F32x8(lanes(v))));
+        let i = integrate_in(crate::sample::Interp { c, a: a[0] }, d);
+        let c = i.c.map(|c| array(c.0));
+        let a = array(i.a.0);
         for l in 0..LANES {
             let [r, g, b, t] = s.map(|v| v.get(l).copied().unwrap_or(0.0));
-            let want = integrate_step([r, g, b], t, d);
+            let want = crate::mode::integrate_step([r, g, b], t, d);
             let got = c.map(|c| c.get(l).copied().unwrap_or(-1.0));
             let got_a = a.get(l).copied().unwrap_or(-1.0);
             assert_eq!(
