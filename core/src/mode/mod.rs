@@ -231,46 +231,30 @@ pub(crate) fn weighted_sums<T: Num, W: Weighting, X, const K: usize>(
     taps: &[X; K],
     mut f: impl FnMut(&X) -> ([T; 3], T),
 ) -> Interp<T> {
-    let mut term = |wk: T, x: &X| {
+    // One loop body, `f` called at one place: with the eight taps written out instead, the
+    // AVX2 instance of the skipping marcher (four-lane packets) took 1.15–1.27 of its former
+    // time; with this loop, 0.96 in a quick pass.
+    let mut acc = Interp {
+        c: [T::ZERO; 3],
+        a: T::ZERO,
+    };
+    for (k, (wk, x)) in w.iter().zip(taps.iter()).rev().enumerate() {
         let ([r, g, b], a) = f(x);
-        let (wc, wa) = W::tap(wk, a);
-        Interp {
-            c: [wc * r, wc * g, wc * b],
-            a: wa,
-        }
-    };
-    let add = |acc: Interp<T>, t: Interp<T>| {
-        let ([cr, cg, cb], [tr, tg, tb]) = (acc.c, t.c);
-        Interp {
-            c: [cr + tr, cg + tg, cb + tb],
-            a: acc.a + t.a,
-        }
-    };
-    // The eight taps of a trilinear cell written out, so that every instance (the lane
-    // kernels' above all) is straight-line code whatever the compiler's unrolling decides for
-    // a loop (which depends on the size of the taps' conversion): a guarantee, not a measured
-    // gain (the quick passes of the two forms differed by less than their noise).
-    if let (Ok(w8), Ok(x8)) = (<&[T; 8]>::try_from(&w[..]), <&[X; 8]>::try_from(&taps[..])) {
-        let [w0, w1, w2, w3, w4, w5, w6, w7] = *w8;
-        let [x0, x1, x2, x3, x4, x5, x6, x7] = x8;
-        let acc = term(w7, x7);
-        let acc = add(acc, term(w6, x6));
-        let acc = add(acc, term(w5, x5));
-        let acc = add(acc, term(w4, x4));
-        let acc = add(acc, term(w3, x3));
-        let acc = add(acc, term(w2, x2));
-        let acc = add(acc, term(w1, x1));
-        return add(acc, term(w0, x0));
-    }
-    let mut it = w.iter().zip(taps.iter()).rev();
-    let Some((wl, xl)) = it.next() else {
-        return Interp {
-            c: [T::ZERO; 3],
-            a: T::ZERO,
+        let (wc, wa) = W::tap(*wk, a);
+        let [cr, cg, cb] = acc.c;
+        acc = if k == 0 {
+            Interp {
+                c: [wc * r, wc * g, wc * b],
+                a: wa,
+            }
+        } else {
+            Interp {
+                c: [cr + wc * r, cg + wc * g, cb + wc * b],
+                a: acc.a + wa,
+            }
         };
-    };
-    let first = term(*wl, xl);
-    it.fold(first, |acc, (wk, x)| add(acc, term(*wk, x)))
+    }
+    acc
 }
 
 /// `Σ w_i·u_i` over four lanes per tap, summed from the last tap down: lane `k` of the result
