@@ -27,7 +27,7 @@
 //!   kernels' order so the weights add up to exactly 1 in floating point — the same 7A.
 //! * **Separate, weighted sum** (`Trilinear::<WeightedSum>` → `trilinear_weights` then
 //!   `Separate::weighted` → `linear_weighted`): the weights, 4M 19A, then for each of the
-//!   4 channels `Σ w_i·x_i` starting from one product (`mode::dot` sums from the last tap down), 8M 7A:
+//!   4 channels `Σ w_i·x_i` starting from one product (`mode::weighted_sums` sums from the last tap down), 8M 7A:
 //!   4M 19A + 4·(8M 7A) = **36M 47A**.
 //! * **Opacity-weighted, weighted sum** (`OpacityWeighted::weighted`): the weights, 4M 19A;
 //!   `ω_i = w_i·α_i`, 8M; `α = Σ ω_i`, 7A; each color channel `Σ ω_i·C_i`, 8M 7A, three times:
