@@ -14,9 +14,10 @@ use crate::voxel::ExtinctionVoxel;
 /// step: `α = 1 − e^(−τd)`, `C̃ = C^τ·α/τ`.
 ///
 /// Stable forms: for `τd < 1`, `C̃ = C^τ·d·φ(τd)` (finite as `τ → 0`, where it tends to
-/// `C^τ·d`) and `α = τd·φ(τd)`, with `φ` by a polynomial ([`phi_poly`]); for `τd ≥ 1`,
-/// `α = −expm1(−τd)` and `C̃ = (C^τ/τ)·α` (no `∞·0` when `τd` overflows). No opacity
-/// correction is ever needed: the step enters here.
+/// `C^τ·d`) and `α = τd·φ(τd)`, with `φ` by a polynomial
+/// ([`phi_poly`](crate::opacity::phi_poly)); for `τd ≥ 1`, `α = −expm1(−τd)` and
+/// `C̃ = (C^τ/τ)·α` (no `∞·0` when `τd` overflows). No opacity correction is ever needed:
+/// the step enters here.
 ///
 /// Error bound (f32 against the f64 reference on the same stored values, any step `d`): `α`
 /// and each `C̃` within `(1 + taps·(1 + d·τ_max))·ε`, `ε = 2⁻²³`, `τ_max` the largest stored

@@ -29,7 +29,8 @@ impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
     const OPACITY_WEIGHTED: bool = true;
 
     /// Eqs. 9–12 over straight channels `(C_i, α_i)` with weights `w_i` (`K`M for `ω`, then
-    /// `K−1`A for `α` and `K`M `K−1`A per color): [`weighted_sums`] by [`ByOpacity`].
+    /// `K−1`A for `α` and `K`M `K−1`A per color): the one sum of weighted products of the
+    /// modes (`mode::weighted_sums`), weighted by `ω`.
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
         weighted_sums::<T, ByOpacity, _, K>(w, taps, |v| v.straight::<T>())
