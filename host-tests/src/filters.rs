@@ -1,8 +1,8 @@
-//! The filter-design evaluator (Kraus §4.2; DESIGN.md, "Filter quality"): how far a pyramid of
+//! The filter-design evaluator (Kraus §4.2): how far a pyramid of
 //! `(a, b, b, a)` downsampling steps followed by linear or quadratic B-spline reconstruction is
 //! from blurring with one convolution filter.
 //!
-//! # Definition (DESIGN.md)
+//! # Definition
 //!
 //! A unit impulse sits on the fine grid at phase `t` of a level-`n` cell; the downsampling
 //! filter is applied `n` times; level `n` is reconstructed continuously with `R` (the hat for
@@ -318,7 +318,7 @@ pub fn table(n: u32) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "Filter quality of (a, b, b, a) downsampling, {n} levels (Kraus 2008 §4.2; DESIGN.md)"
+        "Filter quality of (a, b, b, a) downsampling, {n} levels (Kraus 2008 §4.2)"
     );
     let _ = writeln!(
         s,

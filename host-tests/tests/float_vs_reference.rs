@@ -1,5 +1,5 @@
 //! The float kernels against the independent f64 reference, and the float properties of
-//! DESIGN.md ("Proof obligations"), as proptest properties. Every bound is a named constant
+//! the proof obligations of the kernels, as proptest properties. Every bound is a named constant
 //! of `volsample_host::tolerance`.
 
 use proptest::prelude::*;

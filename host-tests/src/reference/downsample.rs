@@ -1,4 +1,4 @@
-//! Downsampling and mipmap chains (DESIGN.md, "Downsampling (Kraus §4)"), written from the
+//! Downsampling and mipmap chains (Kraus §4), written from the
 //! design alone with plain loops in `f64`.
 //!
 //! - One level halves each axis, `n ↦ ⌈n/2⌉`. Coarse voxel `(X, Y, Z)` is the 64-tap sum

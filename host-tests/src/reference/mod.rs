@@ -1,6 +1,6 @@
 //! Independent `f64` reference model of every float kernel in `volsample`.
 //!
-//! This module is written from `DESIGN.md` alone; it does not use the `volsample` crate and
+//! This module is written from the papers and the math alone; it does not use the `volsample` crate and
 //! favours plain loops and textbook formulas over speed. Tests compare the core against it.
 //!
 //! # Conventions (shared with the core)

@@ -1,4 +1,4 @@
-//! Generators for the papers' scenes (DESIGN.md, "Scenes").
+//! Generators for the papers' scenes.
 
 use volsample::shade::Light;
 use volsample::{ControlPoint, Sample, StraightF32};

@@ -1,4 +1,4 @@
-//! The hard-case catalog (issue 8, DESIGN.md "Proof obligations"): every numerically hard
+//! The hard-case catalog (issue 8): every numerically hard
 //! situation named once, every affected kernel — float and integer, every mode, filter,
 //! compositor, correction and downsampling — driven through it, and each result held finite
 //! and within a bound of `tolerance::hard_cases` (or the kernel's own bound in the tolerance
