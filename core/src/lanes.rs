@@ -28,7 +28,13 @@
 use core::ops::{Add, Mul, Sub};
 
 use crate::num::Num;
-use crate::sample::Interp;
+
+/// Clamps into `[0, hi]`; NaN becomes 0.
+#[inline(always)]
+pub(crate) fn clamp_to(x: f32, hi: f32) -> f32 {
+    // `max` returns the non-NaN operand, so NaN maps to 0.
+    x.max(0.0).min(hi)
+}
 
 /// The number type of the lane kernels: `f32` itself (one lane), [`F32x4`], and on x86-64
 /// the eight AVX2 lanes of `arch::avx2`. Every kernel concept that runs in lanes (the
@@ -59,8 +65,9 @@ pub trait Lanes: Num {
     /// Lane `l` of `a` where `m[l]`, else lane `l` of `b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
 
-    /// `f` of each lane's quantities (the rare paths a kernel takes lane by lane).
-    fn per_lane(i: Interp<Self>, f: impl Fn(Interp<f32>) -> Interp<f32>) -> Interp<Self>;
+    /// `f` of each lane's four values `[x₀, x₁, x₂, x₃]` (one per vector of `x`): the rare
+    /// paths a kernel takes lane by lane.
+    fn per_lane(x: [Self; 4], f: impl Fn([f32; 4]) -> [f32; 4]) -> [Self; 4];
 }
 
 impl Lanes for f32 {
@@ -68,7 +75,7 @@ impl Lanes for f32 {
 
     #[inline(always)]
     fn clamp_to(self, hi: Self) -> Self {
-        crate::sample::clamp_to(self, hi)
+        clamp_to(self, hi)
     }
 
     #[inline(always)]
@@ -96,8 +103,8 @@ impl Lanes for f32 {
     }
 
     #[inline(always)]
-    fn per_lane(i: Interp<Self>, f: impl Fn(Interp<f32>) -> Interp<f32>) -> Interp<Self> {
-        f(i)
+    fn per_lane(x: [Self; 4], f: impl Fn([f32; 4]) -> [f32; 4]) -> [Self; 4] {
+        f(x)
     }
 }
 
@@ -151,7 +158,7 @@ mod repr {
 
     #[inline(always)]
     pub fn clamp_to(x: Repr, hi: Repr) -> Repr {
-        zip(x, hi, crate::sample::clamp_to)
+        zip(x, hi, super::clamp_to)
     }
 
     #[inline(always)]
@@ -292,9 +299,9 @@ impl Lanes for F32x4 {
     }
 
     #[inline(always)]
-    fn per_lane(i: Interp<Self>, f: impl Fn(Interp<f32>) -> Interp<f32>) -> Interp<Self> {
-        let [l0, l1, l2, l3] = crate::mode::unpack_interp(i);
-        crate::mode::pack_interp([f(l0), f(l1), f(l2), f(l3)])
+    fn per_lane(x: [Self; 4], f: impl Fn([f32; 4]) -> [f32; 4]) -> [Self; 4] {
+        let [l0, l1, l2, l3] = unpack(x);
+        pack([f(l0), f(l1), f(l2), f(l3)])
     }
 }
 

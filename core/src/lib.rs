@@ -14,7 +14,8 @@
 //! * **Along which rays** — [`ray`] clipping and cameras, [`render`] for whole images, one
 //!   ray at a time (four consecutive samples in [`lanes`] on SIMD targets) or four rays in
 //!   lanes ([`RayMarcher::cast_rays`]; eight in AVX2 lanes on a CPU with AVX2); bit-identical
-//!   either way.
+//!   either way. The integer pipeline's marcher is [`render::IntRayMarcher`] (its `F = 8`
+//!   alias [`IntRayMarcher`]).
 //! * **In fixed point** — [`fixed_point`]: the bit-exact integer kernels of firmware and
 //!   hardware (the integer `OpacityWeighted` trilinear kernel in SSE2 on x86-64;
 //!   bit-identical).
@@ -93,9 +94,9 @@ pub use arch::Isa;
 pub use composite::{BackToFront, FrontToBack, Never, Threshold};
 pub use fixed_point::{IntSample, IntStop};
 
-/// The integer ray marcher ([`fixed_point::IntRayMarcher`]) at the default `F = 8`
+/// The integer ray marcher ([`render::IntRayMarcher`]) at the default `F = 8`
 /// fractional position bits, so that `IntRayMarcher::new(…)` needs no turbofish; for another
-/// `F`, `fixed_point::IntRayMarcher::<_, _, _, F>::new(…)`.
+/// `F`, `render::IntRayMarcher::<_, _, _, F>::new(…)`.
 ///
 /// ```
 /// use volsample::{IntRayMarcher, IntStop, OpacityWeighted, Ray, Step, StraightU8, Trilinear, Volume};
@@ -107,7 +108,7 @@ pub use fixed_point::{IntSample, IntStop};
 /// # Ok::<(), volsample::Error>(())
 /// ```
 pub type IntRayMarcher<'v, V, M, Fl> =
-    fixed_point::IntRayMarcher<'v, V, M, Fl, { fixed_point::DEFAULT_FRAC_BITS }, skip::NoSkip>;
+    render::IntRayMarcher<'v, V, M, Fl, { fixed_point::DEFAULT_FRAC_BITS }, skip::NoSkip>;
 pub use error::Error;
 pub use filter::{Filter, Nearest, Tree, Trilinear, TriquadraticBSpline, WeightedSum};
 pub use mode::{ExtinctionWeighted, Mode, OpacityWeighted, PostClassified, Preweighted, Separate};

@@ -143,7 +143,7 @@ pub trait Correction: sealed::Sealed + Copy + core::fmt::Debug {
     #[inline(always)]
     #[doc(hidden)]
     fn apply_in<T: Lanes>(&self, s: Interp<T>) -> Interp<T> {
-        T::per_lane(s, |x| self.apply(x.into()).into())
+        crate::sample::per_lane(s, |x| self.apply(x.into()).into())
     }
 }
 

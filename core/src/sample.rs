@@ -1,6 +1,6 @@
 //! The values that flow between the stages of a kernel.
 
-use crate::lanes::Lanes;
+use crate::lanes::{clamp_to, Lanes};
 
 /// An associated (opacity-weighted) color and its opacity: one sample along a ray, or a
 /// composited pixel.
@@ -86,11 +86,19 @@ pub(crate) fn clamp01(x: f32) -> f32 {
     clamp_to(x, 1.0)
 }
 
-/// Clamps into `[0, hi]`; NaN becomes 0.
+/// `f` of each lane's quantities ([`Lanes::per_lane`] of the four vectors `c₀, c₁, c₂, a`).
 #[inline(always)]
-pub(crate) fn clamp_to(x: f32, hi: f32) -> f32 {
-    // `max` returns the non-NaN operand, so NaN maps to 0.
-    x.max(0.0).min(hi)
+pub(crate) fn per_lane<T: Lanes>(
+    i: Interp<T>,
+    f: impl Fn(Interp<f32>) -> Interp<f32>,
+) -> Interp<T> {
+    let [c0, c1, c2] = i.c;
+    let [c0, c1, c2, a] = T::per_lane([c0, c1, c2, i.a], |[c0, c1, c2, a]| {
+        let o = f(Interp { c: [c0, c1, c2], a });
+        let [c0, c1, c2] = o.c;
+        [c0, c1, c2, o.a]
+    });
+    Interp { c: [c0, c1, c2], a }
 }
 
 /// The quantities a sampling mode interpolates, before it turns them into a [`Sample`].

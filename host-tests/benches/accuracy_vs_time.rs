@@ -15,9 +15,9 @@ use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Thro
 use std::hint::black_box;
 use std::time::Duration;
 use volsample::fixed_point::{
-    premultiply_voxel, ExtinctionFx, ExtinctionTables, IntExtinction, IntRayMarcher, IntSample,
-    IntStop,
+    premultiply_voxel, ExtinctionFx, ExtinctionTables, IntExtinction, IntSample, IntStop,
 };
+use volsample::render::IntRayMarcher;
 use volsample::{
     ExtinctionF32, ExtinctionWeighted, FrontToBack, OpacityWeighted, Preweighted, RayMarcher,
     Sample, Separate, Step, StraightF32, StraightU8, Trilinear, Volume,

@@ -48,8 +48,9 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use volsample::composite::Order;
-use volsample::fixed_point::{IntRayMarcher, IntSample, IntStop};
+use volsample::fixed_point::{IntSample, IntStop};
 use volsample::mode::{ExtinctionWeightedU8, TauTable};
+use volsample::render::IntRayMarcher;
 use volsample::skip::{Occupancy, Skipping};
 use volsample::voxel::Voxel;
 use volsample::{

@@ -13,8 +13,9 @@
 use std::time::Instant;
 
 use volsample::fixed_point::{
-    self, ExtinctionFx, ExtinctionTables, IntExtinction, IntRayMarcher, IntSample, IntStop, ONE,
+    self, ExtinctionFx, ExtinctionTables, IntExtinction, IntSample, IntStop, ONE,
 };
+use volsample::render::IntRayMarcher;
 use volsample::voxel::Voxel;
 use volsample::{
     AssociatedU8, Camera, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack, Mode, Nearest,

@@ -21,11 +21,10 @@
 
 use volsample::composite::{back_to_front, front_to_back, over, Order, Termination};
 use volsample::filter::trilinear_weights;
-use volsample::fixed_point::{
-    IntMode, IntPos, IntRayMarcher, IntSample, IntSampler, IntStop, IntWeights,
-};
+use volsample::fixed_point::{IntMode, IntPos, IntSample, IntSampler, IntStop, IntWeights};
 use volsample::mode::{ExtinctionWeightedU8, TauTable};
 use volsample::opacity::correct;
+use volsample::render::IntRayMarcher;
 use volsample::skip::Skipping;
 use volsample::voxel::Voxel;
 use volsample::Isa;

@@ -3,8 +3,9 @@
 
 use volsample::fixed_point::{
     front_to_back, ExtinctionFx, ExtinctionTables, IntCorrection, IntExtinction, IntFilter,
-    IntMode, IntPos, IntRayMarcher, IntSample, IntSampler, IntStop, ONE,
+    IntMode, IntPos, IntSample, IntSampler, IntStop, ONE,
 };
+use volsample::render::IntRayMarcher;
 use volsample::voxel::Voxel;
 use volsample::{
     Camera, Error, FrontToBack, Nearest, OpacityWeighted, Orthographic, Perspective, Preweighted,

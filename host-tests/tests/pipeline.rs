@@ -2,9 +2,8 @@
 //! the core's float [`RayMarcher`] and integer [`IntRayMarcher`] on the same scene, with every
 //! stage (correction, termination, background) in play, and it rejects what it cannot build.
 
-use volsample::fixed_point::{
-    ExtinctionFx, ExtinctionTables, IntExtinction, IntRayMarcher, IntSample, IntStop,
-};
+use volsample::fixed_point::{ExtinctionFx, ExtinctionTables, IntExtinction, IntSample, IntStop};
+use volsample::render::IntRayMarcher;
 use volsample::{
     Camera, FrontToBack, Nearest, OpacityWeighted, Orthographic, Preweighted, RayMarcher, Sample,
     Separate, Step, Trilinear, Volume,

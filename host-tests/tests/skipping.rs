@@ -346,7 +346,8 @@ fn bad_grid_parameters_are_errors() {
 /// quantized position may round up into the next voxel, which the grid's apron covers).
 #[test]
 fn integer_skipping_is_bit_identical() {
-    use volsample::fixed_point::{IntFilter, IntMode, IntRayMarcher, IntStop};
+    use volsample::fixed_point::{IntFilter, IntMode, IntStop};
+    use volsample::render::IntRayMarcher;
 
     fn check_int<V, M, Fl, const F: u32>(
         vol: Volume<'_, V>,

@@ -6,7 +6,8 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::process::Command;
 
-use volsample::fixed_point::{ExtinctionFx, IntPos, IntRatio, IntRayMarcher, IntStop, ONE};
+use volsample::fixed_point::{ExtinctionFx, IntPos, IntRatio, IntStop, ONE};
+use volsample::render::IntRayMarcher;
 use volsample::{Camera, OpacityWeighted, Perspective, Step, StraightU8, Trilinear, Volume};
 use volsample_host::int_model::extinction as ext_model;
 use volsample_host::int_model::{self, composite, correction, downsample, round_half_up, sample};

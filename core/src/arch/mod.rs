@@ -6,7 +6,7 @@
 //! marcher runs them when its [`Isa`] says so: by default the best the CPU has
 //! ([`Isa::detect`], CPUID from `core::arch`, no `std`, nothing cached in global state), or the
 //! one a caller forces ([`RayMarcher::with_isa`](crate::RayMarcher::with_isa),
-//! [`IntRayMarcher::with_isa`](crate::fixed_point::IntRayMarcher::with_isa)) to compare them.
+//! [`IntRayMarcher::with_isa`](crate::render::IntRayMarcher::with_isa)) to compare them.
 //! Every instance gives bit-identical results: the float ones those of one sample of one ray
 //! at a time, the integer ones those of the bit-exact model.
 //!

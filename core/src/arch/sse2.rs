@@ -29,7 +29,6 @@
 
 use core::arch::x86_64::*;
 
-use crate::fixed_point::IntSample;
 use crate::voxel::StraightU8;
 
 /// `(q·DIV255_MAGIC) >> DIV255_SHIFT = ⌊q/255⌋` for every `q < 2^32`.
@@ -37,12 +36,14 @@ pub(crate) const DIV255_MAGIC: u64 = 0x8080_8081;
 /// See [`DIV255_MAGIC`].
 pub(crate) const DIV255_SHIFT: u32 = 39;
 
-/// `combine` of the 8 taps of a trilinear cell with the weights of `frac`.
+/// `combine` of the 8 taps of a trilinear cell with the weights of `frac`: the sample's
+/// `[C̃_r, C̃_g, C̃_b, α]` in U8.8, with `C̃ ≤ α ≤ ONE` (`IntSample::from_valid` takes them as
+/// they are; returned as numbers so that this module does not depend on `fixed_point`).
 #[inline(always)]
 pub(crate) fn opacity_weighted_trilinear<const F: u32>(
     taps: &[StraightU8; 8],
     frac: [u32; 3],
-) -> IntSample {
+) -> [u16; 4] {
     // SAFETY: the kernel needs SSE2 only, which every x86-64 CPU has (it is part of the
     // architecture's baseline, and this module is compiled for x86-64 only).
     unsafe { kernel::<F>(taps, frac) }
@@ -51,7 +52,7 @@ pub(crate) fn opacity_weighted_trilinear<const F: u32>(
 /// The kernel, compiled with SSE2 enabled (where its value intrinsics are safe functions).
 #[inline]
 #[target_feature(enable = "sse2")]
-fn kernel<const F: u32>(taps: &[StraightU8; 8], frac: [u32; 3]) -> IntSample {
+fn kernel<const F: u32>(taps: &[StraightU8; 8], frac: [u32; 3]) -> [u16; 4] {
     let one = 1i32 << F;
     let [fx, fy, fz] = frac.map(|f| (f as i32) & (one - 1));
     let word = |v: StraightU8| i32::from_le_bytes(v.0);
@@ -96,7 +97,7 @@ fn kernel<const F: u32>(taps: &[StraightU8; 8], frac: [u32; 3]) -> IntSample {
     // Each result is at most ONE < 2^16: the low 16 bits of its 64-bit lane.
     let first = |v: __m128i| _mm_extract_epi16::<0>(v) as u16;
     let second = |v: __m128i| _mm_extract_epi16::<4>(v) as u16;
-    IntSample::from_valid([first(c_even), first(c_odd), second(c_even)], second(alpha))
+    [first(c_even), first(c_odd), second(c_even), second(alpha)]
 }
 
 /// Step 2 for one pair of taps, `p` = the pair's bytes widened to 16-bit lanes

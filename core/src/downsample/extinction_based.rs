@@ -1,7 +1,7 @@
 //! Extinction-based downsampling: filter `τ` and `C^τ`; the coarse voxel is twice as long.
 
 use super::{sealed, Method};
-use crate::sample::clamp_to;
+use crate::lanes::clamp_to;
 use crate::voxel::{ExtinctionF32, MAX_TAU};
 
 /// Extinction-based downsampling (Kraus §4.1, fig. 2): filter the extinction `τ̄` and the

@@ -1,7 +1,7 @@
 //! Opacity-based downsampling: filter `α` and `C̃`, then correct for the doubled distance.
 
 use super::{sealed, Method};
-use crate::sample::clamp_to;
+use crate::lanes::clamp_to;
 use crate::voxel::AssociatedF32;
 
 /// Opacity-based downsampling (the common method, Kraus §4.1, fig. 3): filter the opacity `ᾱ`

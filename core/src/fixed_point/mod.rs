@@ -57,7 +57,6 @@ pub mod extinction;
 pub mod opacity_weighted;
 pub mod premul;
 pub mod preweighted;
-pub mod ray_marcher;
 pub mod separate;
 pub mod weights;
 
@@ -66,7 +65,6 @@ pub use correction::IntCorrection;
 pub use exp_phi::{ExtinctionTables, IntRatio};
 pub use extinction::{ExtinctionFx, IntExtinction};
 pub use premul::{premultiply, premultiply_voxel, unpremultiply};
-pub use ray_marcher::IntRayMarcher;
 pub use weights::{nearest_index, trilinear_weights, IntWeights};
 
 use crate::error::Error;

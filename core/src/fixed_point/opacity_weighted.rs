@@ -47,7 +47,10 @@ impl IntMode<StraightU8> for OpacityWeighted {
     #[inline(always)]
     fn combine_trilinear<const F: u32>(&self, taps: &[StraightU8; 8], frac: [u32; 3]) -> IntSample {
         #[cfg(target_arch = "x86_64")]
-        return crate::arch::sse2::opacity_weighted_trilinear::<F>(taps, frac);
+        {
+            let [r, g, b, a] = crate::arch::sse2::opacity_weighted_trilinear::<F>(taps, frac);
+            IntSample::from_valid([r, g, b], a)
+        }
         #[cfg(not(target_arch = "x86_64"))]
         self.combine(taps, &IntWeights::trilinear_frac::<F>(frac))
     }

@@ -103,7 +103,7 @@ fn below_one<T: Lanes>(c_tau: [T; 3], x: T, d: f32) -> Interp<T> {
 #[cold]
 #[inline(never)]
 fn integrate_per_lane<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
-    T::per_lane(i, |l| integrate_step(l.c, l.a, d).into())
+    crate::sample::per_lane(i, |l| integrate_step(l.c, l.a, d).into())
 }
 
 /// One step of the emission–absorption integral with constant `C^τ` and `τ` over length `d`:

@@ -118,7 +118,7 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     #[inline(always)]
     #[doc(hidden)]
     fn finish_in<T: Lanes>(&self, i: Interp<T>, d: f32) -> Interp<T> {
-        T::per_lane(i, |x| self.finish(x, d).into())
+        crate::sample::per_lane(i, |x| self.finish(x, d).into())
     }
 }
 

@@ -32,9 +32,11 @@ use crate::volume::Volume;
 use crate::voxel::Voxel;
 
 mod image;
+mod int_marcher;
 mod packets;
 
 pub(crate) use image::{check_len, render_image};
+pub use int_marcher::IntRayMarcher;
 
 /// Most samples one ray may take (2²⁴, so every sample index is exact in `f32`).
 pub const MAX_SAMPLES_PER_RAY: usize = 1 << 24;

@@ -24,9 +24,8 @@ where
         rays: &'r [Ray],
         out: &'o mut [Sample],
     ) -> (&'r [Ray], &'o mut [Sample]) {
-        use crate::arch::avx2::{
-            in_packets, march8, EXTINCTION_F32, EXTINCTION_U8, OPACITY_WEIGHTED, SEPARATE,
-        };
+        use crate::arch::avx2::{in_packets, march8};
+        use crate::mode::{ExtinctionWeighted, ExtinctionWeightedU8, OpacityWeighted, Separate};
         let separate = <M as Mode<V>>::SEPARATE;
         let extinction = <M as Mode<V>>::EXTINCTION;
         let taus = self.mode.tau_table().map(|t| t.taus());
@@ -41,14 +40,16 @@ where
             let ranges = r.each_ref().map(|r| self.samples(r));
             let (vol, d) = (&self.volume, self.step.d);
             let acc = match taus {
-                Some(t) => march8::<V, EXTINCTION_U8>(cpu, vol, r, &ranges, d, a_stop, t),
+                Some(t) => {
+                    march8::<V, ExtinctionWeightedU8<'static>>(cpu, vol, r, &ranges, d, a_stop, t)
+                }
                 None if extinction => {
-                    march8::<V, EXTINCTION_F32>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256])
+                    march8::<V, ExtinctionWeighted>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256])
                 }
                 None if separate => {
-                    march8::<V, SEPARATE>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256])
+                    march8::<V, Separate>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256])
                 }
-                None => march8::<V, OPACITY_WEIGHTED>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256]),
+                None => march8::<V, OpacityWeighted>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256]),
             };
             acc.map(|a| over(a, self.background))
         })
@@ -60,9 +61,8 @@ where
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(super) fn march_one_avx2(&self, ray: &Ray, range: (f32, u32)) -> Option<(Sample, u32)> {
-        use crate::arch::avx2::{
-            march_one, EXTINCTION_F32, EXTINCTION_U8, OPACITY_WEIGHTED, SEPARATE,
-        };
+        use crate::arch::avx2::march_one;
+        use crate::mode::{ExtinctionWeighted, ExtinctionWeightedU8, OpacityWeighted, Separate};
         let cpu = self.isa.avx2_token()?;
         if !self.eight_ray_packets() {
             return None;
@@ -71,14 +71,16 @@ where
         let a_stop = self.order.termination().a_stop_or_inf();
         let none = &[0.0; 256];
         Some(match self.mode.tau_table().map(|t| t.taus()) {
-            Some(t) => march_one::<V, EXTINCTION_U8>(cpu, vol, ray, range, d, a_stop, t),
+            Some(t) => {
+                march_one::<V, ExtinctionWeightedU8<'static>>(cpu, vol, ray, range, d, a_stop, t)
+            }
             None if <M as Mode<V>>::EXTINCTION => {
-                march_one::<V, EXTINCTION_F32>(cpu, vol, ray, range, d, a_stop, none)
+                march_one::<V, ExtinctionWeighted>(cpu, vol, ray, range, d, a_stop, none)
             }
             None if <M as Mode<V>>::SEPARATE => {
-                march_one::<V, SEPARATE>(cpu, vol, ray, range, d, a_stop, none)
+                march_one::<V, Separate>(cpu, vol, ray, range, d, a_stop, none)
             }
-            None => march_one::<V, OPACITY_WEIGHTED>(cpu, vol, ray, range, d, a_stop, none),
+            None => march_one::<V, OpacityWeighted>(cpu, vol, ray, range, d, a_stop, none),
         })
     }
 

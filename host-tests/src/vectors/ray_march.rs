@@ -3,7 +3,8 @@
 //! (`IntRayMarcher::march_positions`).
 
 use serde_json::{json, Value};
-use volsample::fixed_point::{IntFilter, IntPos, IntRayMarcher, IntStop, ONE};
+use volsample::fixed_point::{IntFilter, IntPos, IntStop, ONE};
+use volsample::render::IntRayMarcher;
 use volsample::{Nearest, OpacityWeighted, Step, StraightU8, Trilinear, Volume};
 
 use super::correction::{push_ratio, ratio_from_value, ratio_values};

@@ -12,8 +12,9 @@
 
 use proptest::prelude::*;
 use volsample::downsample::Filter4;
-use volsample::fixed_point::{IntPos, IntRatio, IntRayMarcher, IntSample, IntStop};
+use volsample::fixed_point::{IntPos, IntRatio, IntSample, IntStop};
 use volsample::opacity::Corrected;
+use volsample::render::IntRayMarcher;
 use volsample::voxel::MAX_TAU;
 use volsample::{
     AssociatedF32, ControlPoint, Error, ExtinctionF32, FrontToBack, OpacityWeighted, Orthographic,

@@ -10,8 +10,9 @@
 
 use volsample::fixed_point::{
     premultiply_voxel, ExtinctionFx, ExtinctionTables, IntCorrection, IntExtinction, IntPos,
-    IntRayMarcher, IntSample, IntSampler, IntStop, ONE,
+    IntSample, IntSampler, IntStop, ONE,
 };
+use volsample::render::IntRayMarcher;
 use volsample::{
     AssociatedU8, Nearest, OpacityWeighted, Orthographic, Preweighted, Separate, Step, StraightU8,
     Trilinear, Volume,

@@ -24,8 +24,9 @@
 //! (`int_composite`).
 
 use volsample::composite::{back_to_front, front_to_back};
-use volsample::fixed_point::{front_to_back as int_ftb, IntRayMarcher, IntSample, IntStop, ONE};
+use volsample::fixed_point::{front_to_back as int_ftb, IntSample, IntStop, ONE};
 use volsample::mode::integrate_step;
+use volsample::render::IntRayMarcher;
 use volsample::{
     AssociatedF32, BackToFront, ControlPoint, ExtinctionF32, ExtinctionWeighted, FrontToBack,
     OpacityWeighted, PostClassified, Preweighted, Ray, RayMarcher, Sample, Separate, Step,

@@ -231,34 +231,18 @@ impl crate::lanes::Lanes for F32x8 {
     }
 
     #[inline(always)]
-    fn per_lane(
-        i: crate::sample::Interp<Self>,
-        f: impl Fn(crate::sample::Interp<f32>) -> crate::sample::Interp<f32>,
-    ) -> crate::sample::Interp<Self> {
-        let [r, g, b] = i.c;
-        let (r, g, b, a) = (r.to_array(), g.to_array(), b.to_array(), i.a.to_array());
+    fn per_lane(x: [Self; 4], f: impl Fn([f32; 4]) -> [f32; 4]) -> [Self; 4] {
+        let x = x.map(F32x8::to_array);
         let mut out = [[0.0f32; LANES]; 4];
-        let [o0, o1, o2, oa] = &mut out;
-        let lanes_in = r.into_iter().zip(g).zip(b).zip(a);
-        let lanes_out = o0
-            .iter_mut()
-            .zip(o1.iter_mut())
-            .zip(o2.iter_mut())
-            .zip(oa.iter_mut());
-        for ((((r, g), b), a), (((or, og), ob), oa)) in lanes_in.zip(lanes_out) {
-            let s = f(crate::sample::Interp { c: [r, g, b], a });
-            [*or, *og, *ob] = s.c;
-            *oa = s.a;
+        for l in 0..LANES {
+            let lane = x.map(|v| v.get(l).copied().unwrap_or(0.0));
+            for (o, y) in out.iter_mut().zip(f(lane)) {
+                if let Some(slot) = o.get_mut(l) {
+                    *slot = y;
+                }
+            }
         }
-        let [r, g, b, a] = out;
-        crate::sample::Interp {
-            c: [
-                F32x8::from_array(r),
-                F32x8::from_array(g),
-                F32x8::from_array(b),
-            ],
-            a: F32x8::from_array(a),
-        }
+        out.map(F32x8::from_array)
     }
 }
 

@@ -3,9 +3,9 @@
 //! AVX2 vectors: the packet kernel of
 //! [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) for `OpacityWeighted`, `Separate`
 //! and `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of straight RGBA8 voxels,
-//! and `ExtinctionWeighted` of [`ExtinctionF32`] voxels ([`EXTINCTION_F32`]), front to back,
+//! and `ExtinctionWeighted` of [`ExtinctionF32`] voxels, front to back,
 //! without opacity correction or empty-space skipping; and, in `i32` lanes, that of
-//! [`IntRayMarcher::cast_rays`](crate::fixed_point::IntRayMarcher::cast_rays) for the integer
+//! [`IntRayMarcher::cast_rays`](crate::render::IntRayMarcher::cast_rays) for the integer
 //! `OpacityWeighted` trilinear pipeline at `F = 8` ([`march8_int`], [`int_sums`]).
 //!
 //! Compiled into every x86-64 build; entered only with an [`Avx2`] token, which only
@@ -46,8 +46,8 @@
 //! `tests/fast_paths.rs` compares `cast_rays` in every instruction set the CPU has with the
 //! baseline `cast`, bit for bit.
 //!
-//! **The integer pipeline** ([`march8_int`], `INTEGER_OW`) is bit-identical to
-//! [`IntRayMarcher::cast`](crate::fixed_point::IntRayMarcher::cast) the same way: the
+//! **The integer pipeline** ([`march8_int`], [`IntOw`]) is bit-identical to
+//! [`IntRayMarcher::cast`](crate::render::IntRayMarcher::cast) the same way: the
 //! positions are the float marcher's, each clamped into `[0, n − 1]` and quantized with
 //! round half up to 8 fractional bits (exactly, in `f32`, for volumes up to `2^14` voxels
 //! per axis: [`quantize8`]); the taps' bytes stay integers, two neighbours' packed into
@@ -91,7 +91,7 @@ use crate::composite::{front_to_back, front_to_back_in};
 use crate::filter::trilinear_weights;
 use crate::fixed_point::{front_to_back as int_front_to_back, IntSample};
 use crate::mode::{
-    integrate_in, weighted_sums, ByOpacity, Linear, Mode, OpacityWeighted, Separate,
+    integrate_in, weighted_sums, ByOpacity, Linear, Mode, OpacityWeighted, Separate, Weighting,
 };
 use crate::ray::Ray;
 use crate::sample::Sample;
@@ -99,6 +99,7 @@ use crate::volume::Volume;
 use crate::voxel::{ExtinctionF32, StraightU8, Voxel};
 
 mod kernel;
+mod kind;
 mod lanes;
 mod sums;
 mod taps;
@@ -106,6 +107,7 @@ mod taps;
 mod tests;
 
 use kernel::*;
+pub(crate) use kind::{IntOw, Kind};
 use lanes::*;
 use sums::*;
 use taps::*;
@@ -175,27 +177,6 @@ pub(crate) const LANES: usize = 8;
 /// ns/sample in a probe; 2 gained nothing (6.3–7.9 against 6.3–6.5, both modes).
 const LAG: u32 = 1;
 
-/// The modes the kernel computes (its `MODE` parameter): `OpacityWeighted`, `Separate`, and
-/// `ExtinctionWeightedU8` (its `τ` looked up per tap, `ExtinctionWeighted`'s sums and step).
-pub(crate) const OPACITY_WEIGHTED: u8 = 0;
-/// See [`OPACITY_WEIGHTED`].
-pub(crate) const SEPARATE: u8 = 1;
-/// See [`OPACITY_WEIGHTED`].
-pub(crate) const EXTINCTION_U8: u8 = 2;
-/// The integer `OpacityWeighted` kernel at `F = 8` (`fixed_point`, [`march8_int`]): its
-/// channels, sums and compositing in `i32` lanes (carried in the kernel's `__m256` values
-/// as bit patterns).
-pub(crate) const INTEGER_OW: u8 = 3;
-/// `ExtinctionWeighted` over [`ExtinctionF32`] voxels: each tap's `[C^τ, τ]` read as one
-/// 16-byte vector per lane, then `EXTINCTION_U8`'s sums and step.
-pub(crate) const EXTINCTION_F32: u8 = 4;
-
-/// Whether `MODE` is one of the extinction modes ([`EXTINCTION_U8`], [`EXTINCTION_F32`]),
-/// whose samples are integrated over the step (`integrate_step`).
-const fn extinction(mode: u8) -> bool {
-    mode == EXTINCTION_U8 || mode == EXTINCTION_F32
-}
-
 /// Marches the leading multiple of eight rays of `rays` by `march` (eight rays to their eight
 /// results) into `out`, and returns the rays and outputs left (fewer than eight; all of them
 /// if `out` is not as long as `rays`).
@@ -227,12 +208,12 @@ pub(crate) fn fits<V: Voxel>(vol: &Volume<'_, V>) -> bool {
 
 /// Marches eight rays front to back, lane `l` over the samples `t₀ + j·d`, `j < n`, with
 /// `(t₀, n) = ranges[l]`, stopping a lane once its `A ≥ a_stop`: the accumulated samples
-/// before the background, bit-identical to the one-ray march of the mode `MODE`
-/// ([`OPACITY_WEIGHTED`], [`SEPARATE`], or [`EXTINCTION_U8`] with the `τ` of every opacity
-/// byte in `taus`; the other modes ignore it), or [`EXTINCTION_F32`]. `V` must be
-/// [`Voxel::STRAIGHT_RGBA8`] (for `EXTINCTION_F32`, [`ExtinctionF32`]: others read as
+/// before the background, bit-identical to the one-ray march of the mode `K` ([`Kind`]:
+/// `OpacityWeighted`, `Separate`, or `ExtinctionWeightedU8` with the `τ` of every opacity
+/// byte in `taus`, which the other modes ignore; or `ExtinctionWeighted`). `V` must be
+/// [`Voxel::STRAIGHT_RGBA8`] (for `ExtinctionWeighted`, [`ExtinctionF32`]: others read as
 /// transparent) and `vol` must [`fits`].
-pub(crate) fn march8<V: Voxel, const MODE: u8>(
+pub(crate) fn march8<V: Voxel, K: Kind>(
     _cpu: Avx2,
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
@@ -243,7 +224,7 @@ pub(crate) fn march8<V: Voxel, const MODE: u8>(
 ) -> [Sample; LANES] {
     // SAFETY: `march8_any` needs a CPU with AVX2 and FMA; `_cpu` exists only where
     // `Avx2::detect` found them on this CPU.
-    let acc = unsafe { march8_any::<V, MODE>(vol, rays, ranges, d, a_stop, taus) };
+    let acc = unsafe { march8_any::<V, K>(vol, rays, ranges, d, a_stop, taus) };
     let [r, g, b, a] = acc.map(|v| v.map(|x| f32::from_bits(x as u32)));
     let mut out = [Sample::TRANSPARENT; LANES];
     for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
@@ -255,9 +236,9 @@ pub(crate) fn march8<V: Voxel, const MODE: u8>(
 /// One ray front to back over its samples `t₀ + j·d`, `j < n`, with `(t₀, n) = range`, eight
 /// consecutive samples at a time in the lanes, composited in order until `A ≥ a_stop`: the
 /// accumulated sample before the background and the number of samples composited,
-/// bit-identical to the one-ray march (`RayMarcher::cast_counted`) of the mode `MODE`, as
+/// bit-identical to the one-ray march (`RayMarcher::cast_counted`) of the mode `K`, as
 /// [`march8`] (whose requirements on `V` and `vol` hold here too).
-pub(crate) fn march_one<V: Voxel, const MODE: u8>(
+pub(crate) fn march_one<V: Voxel, K: Kind>(
     _cpu: Avx2,
     vol: &Volume<'_, V>,
     ray: &Ray,
@@ -268,8 +249,7 @@ pub(crate) fn march_one<V: Voxel, const MODE: u8>(
 ) -> (Sample, u32) {
     let (rays, ranges) = ([*ray; LANES], [range; LANES]);
     // SAFETY: as in `march8`.
-    let out =
-        unsafe { march8_avx2::<V, MODE, 2, false, true>(vol, &rays, &ranges, d, a_stop, taus) };
+    let out = unsafe { march8_avx2::<V, K, 2, false, true>(vol, &rays, &ranges, d, a_stop, taus) };
     let [[r, n, ..], [g, ..], [b, ..], [a, ..]] = out;
     let f = |x: i32| f32::from_bits(x as u32);
     (
@@ -297,7 +277,7 @@ pub(crate) fn march_one_int<V: Voxel>(
     let none = &[0.0; 256];
     // SAFETY: as in `march8`.
     let out =
-        unsafe { march8_avx2::<V, INTEGER_OW, 2, false, true>(vol, &rays, &ranges, d, stop, none) };
+        unsafe { march8_avx2::<V, IntOw, 2, false, true>(vol, &rays, &ranges, d, stop, none) };
     let [[r, n, ..], [g, ..], [b, ..], [a, ..]] = out;
     let narrow = |x: i32| u16::try_from(x).unwrap_or(u16::MAX);
     (
@@ -324,7 +304,7 @@ pub(crate) fn march8_int<V: Voxel>(
 ) -> [crate::fixed_point::IntSample; LANES] {
     let stop = f32::from(a_stop);
     // SAFETY: as in `march8`.
-    let acc = unsafe { march8_any::<V, INTEGER_OW>(vol, rays, ranges, d, stop, &[0.0; 256]) };
+    let acc = unsafe { march8_any::<V, IntOw>(vol, rays, ranges, d, stop, &[0.0; 256]) };
     let [r, g, b, a] = acc;
     let mut out = [crate::fixed_point::IntSample::TRANSPARENT; LANES];
     for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
@@ -347,7 +327,7 @@ pub(crate) fn fits_int<V: Voxel>(vol: &Volume<'_, V>) -> bool {
 /// [`march8_avx2`] of the packet's kind (parallel rays with the reuse across their major
 /// axis, others without): the accumulated `[r, g, b, α]` lanes as bit patterns.
 #[target_feature(enable = "avx2,fma")]
-fn march8_any<V: Voxel, const MODE: u8>(
+fn march8_any<V: Voxel, K: Kind>(
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     ranges: &[(f32, u32); LANES],
@@ -357,12 +337,12 @@ fn march8_any<V: Voxel, const MODE: u8>(
 ) -> [[i32; LANES]; 4] {
     let [r0, ..] = rays;
     if rays.iter().any(|r| r.dir() != r0.dir()) {
-        march8_avx2::<V, MODE, 2, false, false>(vol, rays, ranges, d, a_stop, taus)
+        march8_avx2::<V, K, 2, false, false>(vol, rays, ranges, d, a_stop, taus)
     } else {
         match major_axis(r0.dir()) {
-            0 => march8_avx2::<V, MODE, 0, true, false>(vol, rays, ranges, d, a_stop, taus),
-            1 => march8_avx2::<V, MODE, 1, true, false>(vol, rays, ranges, d, a_stop, taus),
-            _ => march8_avx2::<V, MODE, 2, true, false>(vol, rays, ranges, d, a_stop, taus),
+            0 => march8_avx2::<V, K, 0, true, false>(vol, rays, ranges, d, a_stop, taus),
+            1 => march8_avx2::<V, K, 1, true, false>(vol, rays, ranges, d, a_stop, taus),
+            _ => march8_avx2::<V, K, 2, true, false>(vol, rays, ranges, d, a_stop, taus),
         }
     }
 }

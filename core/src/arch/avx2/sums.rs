@@ -104,12 +104,12 @@ pub(super) fn int_sums(pair: impl Fn(usize) -> [__m256; 4], f: [__m256i; 3]) -> 
 }
 
 /// The mode's sums over the taps from the last down: `mode::weighted_sums` in [`F32x8`]
-/// lanes, by `ω = w·α` for `OpacityWeighted` ([`ByOpacity`]), by `w` for `Separate` and the
-/// extinction modes ([`Linear`]), of the channels `tap(k)` of each tap `k`: `[Σ r, Σ g, Σ b,
-/// Σ α]`.
+/// lanes, weighted by `W` (`ω = w·α` for `OpacityWeighted`, [`ByOpacity`]; `w` for `Separate`
+/// and the extinction modes, [`Linear`]), of the channels `tap(k)` of each tap `k`:
+/// `[Σ r, Σ g, Σ b, Σ α]`.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn mode_sums<const MODE: u8>(
+pub(super) fn mode_sums<W: Weighting>(
     tap: impl Fn(usize) -> [__m256; 4],
     w: &[F32x8; 8],
 ) -> [__m256; 4] {
@@ -118,9 +118,5 @@ pub(super) fn mode_sums<const MODE: u8>(
         ([F32x8(r), F32x8(g), F32x8(b)], F32x8(a))
     };
     const TAPS: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
-    vectors(if MODE == OPACITY_WEIGHTED {
-        weighted_sums::<F32x8, ByOpacity, _, 8>(w, &TAPS, channels)
-    } else {
-        weighted_sums::<F32x8, Linear, _, 8>(w, &TAPS, channels)
-    })
+    vectors(weighted_sums::<F32x8, W, _, 8>(w, &TAPS, channels))
 }

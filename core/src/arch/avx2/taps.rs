@@ -14,7 +14,7 @@ use super::*;
 /// without a bounds check per voxel (which cost about 13 % of the kernel's time). Were an
 /// index ever outside, every load would be checked and such a voxel read as transparent:
 /// never out of bounds either way.
-pub(super) struct Taps<'d, V> {
+pub(crate) struct Taps<'d, V> {
     data: &'d [V],
     at: [__m256i; 8],
     /// Set only by `new`, and only when every index of `at` is below `data.len()`.
@@ -125,43 +125,6 @@ impl<'d, V: Voxel> Taps<'d, V> {
         ]
     }
 
-    /// The channels of tap `k` as the kernel computes with them ([`channels`] of its words,
-    /// or for `EXTINCTION_F32` its vectors); `INSIDE` as [`load`](Self::load).
-    #[inline]
-    #[target_feature(enable = "avx2,fma")]
-    pub(super) fn channels<const MODE: u8, const INSIDE: bool>(
-        &self,
-        k: usize,
-        taus: &[f32; 256],
-    ) -> [__m256; 4] {
-        if MODE == EXTINCTION_F32 {
-            self.load_f32x4::<INSIDE>(k)
-        } else {
-            channels::<MODE>(self.load::<INSIDE>(k), taus)
-        }
-    }
-
-    /// The channels of all eight taps ([`channels`](Self::channels) of each, called here
-    /// directly: through a closure per tap, the one-ray march of 16-byte extinction voxels
-    /// took 1.18–1.19 of its former time in quick passes, the reads apparently not inlined).
-    #[inline]
-    #[target_feature(enable = "avx2,fma")]
-    pub(super) fn all_channels<const MODE: u8, const INSIDE: bool>(
-        &self,
-        taus: &[f32; 256],
-    ) -> [[__m256; 4]; 8] {
-        [
-            self.channels::<MODE, INSIDE>(0, taus),
-            self.channels::<MODE, INSIDE>(1, taus),
-            self.channels::<MODE, INSIDE>(2, taus),
-            self.channels::<MODE, INSIDE>(3, taus),
-            self.channels::<MODE, INSIDE>(4, taus),
-            self.channels::<MODE, INSIDE>(5, taus),
-            self.channels::<MODE, INSIDE>(6, taus),
-            self.channels::<MODE, INSIDE>(7, taus),
-        ]
-    }
-
     /// The voxels of tap `k` as little-endian RGBA words; without bounds checks where
     /// `INSIDE` and `inside` (a caller that has tested `inside` passes `INSIDE`, so that the
     /// test here folds away).
@@ -260,9 +223,9 @@ pub(super) fn place<const A: usize>(k: usize) -> usize {
 /// The channels of a cell's eight taps as `f32` (`[r, g, b, α]`, each `n/255` correctly
 /// rounded), kept between steps as two faces across axis `A`: `faces[near ^ s]` holds the
 /// taps of side `s` (see [`face`]), so that a step of one cell along `A` turns the far face
-/// into the near one by flipping `near`. For `INTEGER_OW` a face holds its two pairs of taps
+/// into the near one by flipping `near`. For [`IntOw`] a face holds its two pairs of taps
 /// packed ([`int_pair`]) at places 0 and 2 (and again at 1 and 3).
-pub(super) struct Cell<const A: usize> {
+pub(crate) struct Cell<const A: usize> {
     faces: [[[__m256; 4]; 4]; 2],
     pub(super) near: usize,
     /// The indices of taps `0`, `7` and `far₀` (the far face's tap `0`) of the cell held, per
@@ -301,50 +264,19 @@ impl<const A: usize> Cell<A> {
         }
     }
 
-    /// Reads and converts the taps of side `SIDE` (see [`face`]). The branch on `inside` is
-    /// taken once per face, outside the taps' loop.
+    /// Reads and converts the taps of side `SIDE` (see [`face`]) as the kind `K` does
+    /// ([`Kind::read_face`]).
     #[inline]
     #[target_feature(enable = "avx2,fma")]
-    pub(super) fn read<V: Voxel, const MODE: u8, const SIDE: usize>(
+    pub(super) fn read<V: Voxel, K: Kind, const SIDE: usize>(
         &mut self,
         taps: &Taps<'_, V>,
         taus: &[f32; 256],
     ) {
         let [f0, f1] = &mut self.faces;
         let out = if (self.near ^ SIDE) & 1 == 0 { f0 } else { f1 };
-        let [k0, k1, k2, k3] = face::<A>(SIDE);
-        if MODE == INTEGER_OW {
-            // The face's words, then its two pairs (places 0 and 1, 2 and 3: neighbours
-            // along x, or along y for a face across x) packed for `int_sums`, held at places
-            // 0 and 2, and again at 1 and 3 ([`int_pair`]).
-            let [w0, w1, w2, w3] = if A != 0 && taps.pairs {
-                let [w0, w1] = taps.load_pair(k0);
-                let [w2, w3] = taps.load_pair(k2);
-                [w0, w1, w2, w3]
-            } else if taps.inside {
-                map4([k0, k1, k2, k3], |k| taps.load::<true>(k))
-            } else {
-                map4([k0, k1, k2, k3], |k| taps.load::<false>(k))
-            };
-            let [p0, p1] = [int_pair(w0, w1), int_pair(w2, w3)];
-            *out = [p0, p0, p1, p1];
-            return;
-        }
-        // Across y or z, a face's taps are two x pairs (`face`); across x, none.
-        if A != 0 && taps.pairs {
-            let [t0, t1] = taps.load_pair(k0);
-            let [t2, t3] = taps.load_pair(k2);
-            *out = [
-                channels::<MODE>(t0, taus),
-                channels::<MODE>(t1, taus),
-                channels::<MODE>(t2, taus),
-                channels::<MODE>(t3, taus),
-            ];
-        } else if taps.inside {
-            unpack::<V, MODE, true>(taps, face::<A>(SIDE), out, taus);
-        } else {
-            unpack::<V, MODE, false>(taps, face::<A>(SIDE), out, taus);
-        }
+        // SAFETY: `Kind::read_face` needs AVX2 and FMA, which this function has.
+        unsafe { K::read_face::<V, A>(out, taps, face::<A>(SIDE), taus) }
     }
 
     /// The channels of tap `k`.
@@ -365,42 +297,17 @@ impl<const A: usize> Cell<A> {
     }
 }
 
-/// Reads and converts the taps `ks` into `out`; `INSIDE` as [`Taps::load`].
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-pub(super) fn unpack<V: Voxel, const MODE: u8, const INSIDE: bool>(
-    taps: &Taps<'_, V>,
-    ks: [usize; 4],
-    out: &mut [[__m256; 4]; 4],
-    taus: &[f32; 256],
-) {
-    for (c, k) in out.iter_mut().zip(ks) {
-        *c = taps.channels::<MODE, INSIDE>(k, taus);
-    }
-}
-
 /// The channels of eight little-endian RGBA words as `f32`: `[r, g, b, α]`, each `n/255`
-/// correctly rounded; for `EXTINCTION_U8` `[τ·r, τ·g, τ·b, τ]` with `τ = taus[α byte]`, as
-/// `TauTable::extinction` (`INTEGER_OW` reads words, [`int_pair`]).
+/// correctly rounded.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn channels<const MODE: u8>(g: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
+pub(super) fn channels(g: __m256i) -> [__m256; 4] {
     let byte = _mm256_set1_epi32(0xff);
-    let a = _mm256_srli_epi32::<24>(g);
     let bytes = [
         _mm256_and_si256(g, byte),
         _mm256_and_si256(_mm256_srli_epi32::<8>(g), byte),
         _mm256_and_si256(_mm256_srli_epi32::<16>(g), byte),
+        _mm256_srli_epi32::<24>(g),
     ];
-    let [r, g, b] = map3(bytes, |n| unorm8(n));
-    if MODE == EXTINCTION_U8 {
-        // (Every lane is a byte, so the lookup cannot miss.)
-        let t = |n: i32| taus.get(usize::from(n as u8)).copied().unwrap_or(0.0);
-        let [n0, n1, n2, n3, n4, n5, n6, n7] = to_i32s(a);
-        let tau = _mm256_setr_ps(t(n0), t(n1), t(n2), t(n3), t(n4), t(n5), t(n6), t(n7));
-        let mul = _mm256_mul_ps;
-        [mul(tau, r), mul(tau, g), mul(tau, b), tau]
-    } else {
-        [r, g, b, unorm8(a)]
-    }
+    map4(bytes, |n| unorm8(n))
 }

@@ -12,8 +12,9 @@ use cortex_m_rt::entry;
 use volsample::composite::Order;
 use volsample::fixed_point::{
     composite_front_to_back, premultiply_voxel, unpremultiply, ExtinctionFx, ExtinctionTables,
-    IntCorrection, IntExtinction, IntFilter, IntMode, IntPos, IntRayMarcher, IntSampler, IntStop,
+    IntCorrection, IntExtinction, IntFilter, IntMode, IntPos, IntSampler, IntStop,
 };
+use volsample::render::IntRayMarcher;
 use volsample::voxel::Voxel;
 use volsample::{
     AssociatedF32, BackToFront, ControlPoint, ExtinctionF32, ExtinctionWeighted, Filter,

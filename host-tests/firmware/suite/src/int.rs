@@ -7,8 +7,9 @@ use volsample::fixed_point::{
     composite_front_to_back, front_to_back, nearest_index, premultiply, premultiply_voxel,
     round_half_up_div, round_half_up_shift, saturate_u16, trilinear_weights, truncate_shift,
     unpremultiply, ExtinctionFx, ExtinctionTables, IntCorrection, IntExtinction, IntFilter,
-    IntMode, IntPos, IntRayMarcher, IntSample, IntSampler, IntStop, IntWeights, ONE,
+    IntMode, IntPos, IntSample, IntSampler, IntStop, IntWeights, ONE,
 };
+use volsample::render::IntRayMarcher;
 use volsample::voxel::Voxel;
 use volsample::{
     Nearest, OpacityWeighted, Orthographic, Preweighted, Ray, Separate, Step, StraightU8,

@@ -23,14 +23,15 @@
 //! the feature `sse2`). The positions, taps and compositing order are those of one sample at
 //! a time, so the results are too.
 
-use super::composite::{front_to_back, IntStop};
-use super::DEFAULT_FRAC_BITS;
-use super::{check_frac_bits, IntCorrection, IntFilter, IntMode, IntPos, IntSample, IntSampler};
+use super::{check_len, render_image, Step, MAX_SAMPLES_PER_RAY};
 use crate::arch::{in_isa, Isa};
 use crate::error::Error;
+use crate::fixed_point::composite::{front_to_back, IntStop};
+use crate::fixed_point::DEFAULT_FRAC_BITS;
+use crate::fixed_point::{
+    check_frac_bits, IntCorrection, IntFilter, IntMode, IntPos, IntSample, IntSampler,
+};
 use crate::ray::{Camera, Ray};
-use crate::render::{check_len, render_image};
-use crate::render::{Step, MAX_SAMPLES_PER_RAY};
 use crate::skip::{Emptiness, NoSkip, Occupancy, Skipping};
 use crate::volume::Volume;
 use crate::voxel::Voxel;
@@ -66,7 +67,8 @@ impl Stage for IntCorrection {
 /// quantization (`2^−(F+1)` voxel per axis).
 ///
 /// ```
-/// use volsample::fixed_point::{IntRayMarcher, IntSample, IntStop, ONE};
+/// use volsample::fixed_point::{IntSample, IntStop, ONE};
+/// use volsample::render::IntRayMarcher;
 /// use volsample::{OpacityWeighted, Orthographic, Step, StraightU8, Trilinear, Volume};
 /// // A 4×4×4 volume: opaque white core in transparent black air.
 /// let mut voxels = [StraightU8([0, 0, 0, 0]); 64];
@@ -359,7 +361,8 @@ where
     /// quantization.
     ///
     /// ```
-    /// use volsample::fixed_point::{IntPos, IntRayMarcher, IntStop, ONE};
+    /// use volsample::fixed_point::{IntPos, IntStop, ONE};
+    /// use volsample::render::IntRayMarcher;
     /// use volsample::{OpacityWeighted, Step, StraightU8, Trilinear, Volume};
     /// let voxels = [StraightU8([255, 0, 0, 100]); 8];
     /// let vol = Volume::new(&voxels, [2, 2, 2])?;
@@ -417,7 +420,8 @@ where
     /// Error bound: that of [`cast`](Self::cast) (the same results).
     ///
     /// ```
-    /// use volsample::fixed_point::{IntRayMarcher, IntSample, IntStop};
+    /// use volsample::fixed_point::{IntSample, IntStop};
+    /// use volsample::render::IntRayMarcher;
     /// use volsample::{OpacityWeighted, Ray, Step, StraightU8, Trilinear, Volume};
     /// let voxels: Vec<StraightU8> =
     ///     (0..64u8).map(|i| StraightU8([i * 4, 255 - i, 7, i * 3])).collect();

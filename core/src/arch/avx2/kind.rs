@@ -1,0 +1,504 @@
+//! What the kernel computes at each step, by type: [`Kind`], implemented by the float modes
+//! the kernel runs ([`FloatMode`]: `OpacityWeighted`, `Separate`, `ExtinctionWeightedU8` over
+//! RGBA8 words, `ExtinctionWeighted` over 16-byte `ExtinctionF32` voxels) and by the integer
+//! `OpacityWeighted` pipeline at `F = 8` ([`IntOw`]). The march itself ([`march8_avx2`]) is
+//! written once over it.
+//!
+//! Every method is an `unsafe fn` compiled for AVX2 and FMA (`#[target_feature]`, inlined into
+//! the kernel, which is compiled so too): its one requirement is a CPU with AVX2 and FMA, which
+//! the kernel's callers prove with an [`Avx2`] token.
+
+use core::arch::x86_64::*;
+
+use super::*;
+use crate::mode::{ExtinctionWeighted, ExtinctionWeightedU8};
+use crate::sample::Interp;
+
+/// The per-step operations of one kind of kernel (see the module doc). # Safety of every
+/// method: the CPU must have AVX2 and FMA.
+pub(crate) trait Kind {
+    /// How many steps the compositing lags behind the sums (the pipelining of
+    /// [`march8_avx2`]; [`LAG`] for the extinction modes, 0 for the others).
+    const LAG: u32;
+
+    /// Along one axis, the fraction and the two tap coordinates of the positions `p`, for an
+    /// axis of `n` voxels (`n` as `f32`, `last = n − 1`).
+    unsafe fn split(p: __m256, last: __m256i, n: __m256) -> (__m256, __m256i, __m256i);
+
+    /// Reads and converts the taps `ks` (a face of a [`Cell`]) into `out`.
+    unsafe fn read_face<V: Voxel, const A: usize>(
+        out: &mut [[__m256; 4]; 4],
+        taps: &Taps<'_, V>,
+        ks: [usize; 4],
+        taus: &[f32; 256],
+    );
+
+    /// The sums of the taps a [`Cell`] holds, at the fractions `f` (`[fx, fy, fz]`, from
+    /// [`split`](Self::split)).
+    unsafe fn cell_sums<const A: usize>(cell: &Cell<A>, f: [__m256; 3]) -> [__m256; 4];
+
+    /// The sums of the taps read now.
+    unsafe fn tap_sums<V: Voxel>(
+        taps: &Taps<'_, V>,
+        f: [__m256; 3],
+        taus: &[f32; 256],
+    ) -> [__m256; 4];
+
+    /// The sample of the sums `s` for a step of length `d`.
+    unsafe fn finish(s: [__m256; 4], d: f32) -> [__m256; 4];
+
+    /// The front-to-back step of sample `s` onto `acc`, kept in the `live` lanes only.
+    unsafe fn over(acc: [__m256; 4], s: [__m256; 4], live: __m256) -> [__m256; 4];
+
+    /// The lanes whose `acc` has reached `A ≥ a_stop` (`Termination::done`).
+    unsafe fn done(acc: &[__m256; 4], a_stop: f32) -> __m256;
+
+    /// With `ONE` ([`march_one`]): the eight samples `s` of step `i` (sample `8i + l` in lane
+    /// `l`) composited in order onto the one ray's `acc` (`[r, g, b, α]` as bit patterns) as
+    /// the one-ray march does; `Some` of the number of samples composited once the ray's
+    /// `samples` end or it stops at `a_stop`.
+    unsafe fn serial(
+        acc: &mut [i32; 4],
+        s: [__m256; 4],
+        i: u32,
+        samples: u32,
+        a_stop: f32,
+    ) -> Option<u32>;
+}
+
+/// A float mode the kernel computes: how it reads a tap, how it weights the sums, how it
+/// finishes a sample. # Safety of the `unsafe` methods: the CPU must have AVX2 and FMA.
+pub(super) trait FloatMode {
+    /// As [`Kind::LAG`].
+    const LAG: u32;
+
+    /// The weights of the sums (`mode::weighted_sums`): `ω = w·α` ([`ByOpacity`]) or `w`
+    /// ([`Linear`]).
+    type W: Weighting;
+
+    /// The channels of eight little-endian RGBA words: `[r, g, b, α]`, each `n/255`
+    /// correctly rounded ([`channels`]); `taus` is the `τ` of every opacity byte (read by
+    /// `ExtinctionWeightedU8` only).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn channels(word: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
+        let _ = taus;
+        channels(word)
+    }
+
+    /// The channels of tap `k` (its words' [`channels`](Self::channels)); `INSIDE` as
+    /// [`Taps::load`].
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn tap<V: Voxel, const INSIDE: bool>(
+        taps: &Taps<'_, V>,
+        k: usize,
+        taus: &[f32; 256],
+    ) -> [__m256; 4] {
+        // SAFETY: the caller's contract (AVX2 and FMA), which this function has too.
+        unsafe { Self::channels(taps.load::<INSIDE>(k), taus) }
+    }
+
+    /// The mode's `finish_in` in [`F32x8`] lanes.
+    fn finish(i: Interp<F32x8>, d: f32) -> Interp<F32x8>;
+}
+
+impl FloatMode for OpacityWeighted {
+    const LAG: u32 = 0;
+    type W = ByOpacity;
+    #[inline(always)]
+    fn finish(i: Interp<F32x8>, d: f32) -> Interp<F32x8> {
+        <Self as Mode<StraightU8>>::finish_in(&Self, i, d)
+    }
+}
+
+impl FloatMode for Separate {
+    const LAG: u32 = 0;
+    type W = Linear;
+    #[inline(always)]
+    fn finish(i: Interp<F32x8>, d: f32) -> Interp<F32x8> {
+        <Self as Mode<StraightU8>>::finish_in(&Self, i, d)
+    }
+}
+
+impl FloatMode for ExtinctionWeightedU8<'_> {
+    const LAG: u32 = LAG;
+    type W = Linear;
+
+    /// `[τ·r, τ·g, τ·b, τ]` with `τ = taus[α byte]`, as `TauTable::extinction`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn channels(word: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
+        let [r, g, b, _] = channels(word);
+        // (Every lane is a byte, so the lookup cannot miss.)
+        let t = |n: i32| taus.get(usize::from(n as u8)).copied().unwrap_or(0.0);
+        let [n0, n1, n2, n3, n4, n5, n6, n7] = to_i32s(_mm256_srli_epi32::<24>(word));
+        let tau = _mm256_setr_ps(t(n0), t(n1), t(n2), t(n3), t(n4), t(n5), t(n6), t(n7));
+        let mul = _mm256_mul_ps;
+        [mul(tau, r), mul(tau, g), mul(tau, b), tau]
+    }
+
+    #[inline(always)]
+    fn finish(i: Interp<F32x8>, d: f32) -> Interp<F32x8> {
+        integrate_in(i, d)
+    }
+}
+
+impl FloatMode for ExtinctionWeighted {
+    const LAG: u32 = LAG;
+    type W = Linear;
+
+    /// Each tap's stored `[C^τ, τ]` ([`Taps::load_f32x4`]).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn tap<V: Voxel, const INSIDE: bool>(
+        taps: &Taps<'_, V>,
+        k: usize,
+        _taus: &[f32; 256],
+    ) -> [__m256; 4] {
+        taps.load_f32x4::<INSIDE>(k)
+    }
+
+    #[inline(always)]
+    fn finish(i: Interp<F32x8>, d: f32) -> Interp<F32x8> {
+        integrate_in(i, d)
+    }
+}
+
+/// The channels of all eight taps ([`FloatMode::tap`] of each, called here directly: through a
+/// closure per tap, the one-ray march of 16-byte extinction voxels took 1.18–1.19 of its
+/// former time in quick passes, the reads apparently not inlined).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn all_taps<M: FloatMode, V: Voxel, const INSIDE: bool>(
+    taps: &Taps<'_, V>,
+    taus: &[f32; 256],
+) -> [[__m256; 4]; 8] {
+    // SAFETY: the caller's contract (AVX2 and FMA), which this function has too.
+    unsafe {
+        [
+            M::tap::<V, INSIDE>(taps, 0, taus),
+            M::tap::<V, INSIDE>(taps, 1, taus),
+            M::tap::<V, INSIDE>(taps, 2, taus),
+            M::tap::<V, INSIDE>(taps, 3, taus),
+            M::tap::<V, INSIDE>(taps, 4, taus),
+            M::tap::<V, INSIDE>(taps, 5, taus),
+            M::tap::<V, INSIDE>(taps, 6, taus),
+            M::tap::<V, INSIDE>(taps, 7, taus),
+        ]
+    }
+}
+
+impl<M: FloatMode> Kind for M {
+    const LAG: u32 = M::LAG;
+
+    /// `p − ⌊p⌋`, and `⌊p⌋`, `⌊p⌋ + 1` clamped into `[0, n − 1]` (`⌊p⌋` is limited to
+    /// `[−1, n]` before the conversion, which the clamp maps to the edges, so no coordinate
+    /// overflows an `i32` lane).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn split(p: __m256, last: __m256i, n: __m256) -> (__m256, __m256i, __m256i) {
+        let fl = _mm256_floor_ps(p);
+        let i = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(fl, _mm256_set1_ps(-1.0)), n));
+        let c = |i| _mm256_min_epi32(_mm256_max_epi32(i, _mm256_setzero_si256()), last);
+        (
+            _mm256_sub_ps(p, fl),
+            c(i),
+            c(_mm256_add_epi32(i, _mm256_set1_epi32(1))),
+        )
+    }
+
+    /// Across y or z, a face's taps are two x pairs (`face`), read as such where the taps
+    /// allow; across x, none. The branch on `inside` is taken once per face, outside the
+    /// taps' loop.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn read_face<V: Voxel, const A: usize>(
+        out: &mut [[__m256; 4]; 4],
+        taps: &Taps<'_, V>,
+        ks: [usize; 4],
+        taus: &[f32; 256],
+    ) {
+        let [k0, _, k2, _] = ks;
+        if A != 0 && taps.pairs() {
+            let [t0, t1] = taps.load_pair(k0);
+            let [t2, t3] = taps.load_pair(k2);
+            // SAFETY: the caller's contract (AVX2 and FMA), which this function has too; so
+            // below.
+            *out = map4([t0, t1, t2, t3], |t| unsafe { M::channels(t, taus) });
+        } else if taps.inside() {
+            for (c, k) in out.iter_mut().zip(ks) {
+                // SAFETY: as above.
+                *c = unsafe { M::tap::<V, true>(taps, k, taus) };
+            }
+        } else {
+            for (c, k) in out.iter_mut().zip(ks) {
+                // SAFETY: as above.
+                *c = unsafe { M::tap::<V, false>(taps, k, taus) };
+            }
+        }
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn cell_sums<const A: usize>(cell: &Cell<A>, f: [__m256; 3]) -> [__m256; 4] {
+        mode_sums::<M::W>(|k| cell.tap(k), &weights(f))
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn tap_sums<V: Voxel>(
+        taps: &Taps<'_, V>,
+        f: [__m256; 3],
+        taus: &[f32; 256],
+    ) -> [__m256; 4] {
+        let w = weights(f);
+        if taps.pairs() {
+            // The four pairs' words first (eight registers), then each tap's channels when
+            // the sums come to it.
+            let [[w0, w1], [w2, w3], [w4, w5], [w6, w7]] =
+                map4([0, 2, 4, 6], |k| taps.load_pair(k));
+            let words = [w0, w1, w2, w3, w4, w5, w6, w7];
+            let word = |k: usize| words.get(k).copied().unwrap_or(_mm256_setzero_si256());
+            // SAFETY: the caller's contract (AVX2 and FMA), which this function has too.
+            mode_sums::<M::W>(|k| unsafe { M::channels(word(k), taus) }, &w)
+        } else if taps.inside() {
+            // SAFETY: as above.
+            let c = unsafe { all_taps::<M, V, true>(taps, taus) };
+            mode_sums::<M::W>(
+                |k| c.get(k).copied().unwrap_or([_mm256_setzero_ps(); 4]),
+                &w,
+            )
+        } else {
+            // SAFETY: as above.
+            let c = unsafe { all_taps::<M, V, false>(taps, taus) };
+            mode_sums::<M::W>(
+                |k| c.get(k).copied().unwrap_or([_mm256_setzero_ps(); 4]),
+                &w,
+            )
+        }
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn finish(s: [__m256; 4], d: f32) -> [__m256; 4] {
+        vectors(M::finish(interp(s), d))
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn over(acc: [__m256; 4], s: [__m256; 4], live: __m256) -> [__m256; 4] {
+        vectors(front_to_back_in(interp(acc), interp(s), Mask8(live)))
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn done(acc: &[__m256; 4], a_stop: f32) -> __m256 {
+        _mm256_cmp_ps::<_CMP_GE_OQ>(acc[3], _mm256_set1_ps(a_stop))
+    }
+
+    /// `composite::front_to_back`, stopping once `A ≥ a_stop` after a sample.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn serial(
+        acc: &mut [i32; 4],
+        [r, g, b, a]: [__m256; 4],
+        i: u32,
+        samples: u32,
+        a_stop: f32,
+    ) -> Option<u32> {
+        let f = |x: i32| f32::from_bits(x as u32);
+        let bits = |x: f32| x.to_bits() as i32;
+        let [ar, ag, ab, aa] = *acc;
+        let mut s = Sample {
+            c: [f(ar), f(ag), f(ab)],
+            a: f(aa),
+        };
+        let [r, g, b, a] = map4([r, g, b, a], |v| array(v));
+        let lanes = r.into_iter().zip(g).zip(b).zip(a);
+        let mut end = None;
+        for (k, (((r, g), b), a)) in (i * LANES as u32..).zip(lanes) {
+            if k >= samples {
+                end = Some(samples);
+                break;
+            }
+            s = front_to_back(s, Sample { c: [r, g, b], a });
+            if s.a >= a_stop {
+                end = Some(k + 1);
+                break;
+            }
+        }
+        *acc = [bits(s.c[0]), bits(s.c[1]), bits(s.c[2]), bits(s.a)];
+        end
+    }
+}
+
+/// `filter::trilinear_weights` in [`F32x8`] lanes.
+#[inline(always)]
+fn weights([fx, fy, fz]: [__m256; 3]) -> [F32x8; 8] {
+    trilinear_weights([F32x8(fx), F32x8(fy), F32x8(fz)])
+}
+
+/// The integer `OpacityWeighted` trilinear pipeline at `F = 8` ([`march8_int`]): its
+/// channels, sums and compositing in `i32` lanes (carried in the kernel's `__m256` values as
+/// bit patterns).
+pub(crate) struct IntOw;
+
+impl Kind for IntOw {
+    const LAG: u32 = 0;
+
+    /// `IntRayMarcher::quantize`: `p` clamped into `[0, n − 1]` (NaN to 0: `max` returns its
+    /// second operand then), `raw = ⌊256·p + ½⌋` (`quantize8`), then the index `raw >> 8` and
+    /// the fraction `raw & 255` (an `i32` bit pattern); the index is at most `n − 1`, the
+    /// second tap clamped to it.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn split(p: __m256, last: __m256i, n: __m256) -> (__m256, __m256i, __m256i) {
+        let p = _mm256_min_ps(
+            _mm256_max_ps(p, _mm256_setzero_ps()),
+            _mm256_sub_ps(n, _mm256_set1_ps(1.0)),
+        );
+        let raw = quantize8(p);
+        let i = _mm256_srli_epi32::<8>(raw);
+        let f = _mm256_and_si256(raw, _mm256_set1_epi32(0xff));
+        (
+            _mm256_castsi256_ps(f),
+            i,
+            _mm256_min_epi32(_mm256_add_epi32(i, _mm256_set1_epi32(1)), last),
+        )
+    }
+
+    /// The face's words, then its two pairs (places 0 and 1, 2 and 3: neighbours along x, or
+    /// along y for a face across x) packed for [`int_sums`], held at places 0 and 2, and again
+    /// at 1 and 3 ([`int_pair`]).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn read_face<V: Voxel, const A: usize>(
+        out: &mut [[__m256; 4]; 4],
+        taps: &Taps<'_, V>,
+        ks: [usize; 4],
+        _taus: &[f32; 256],
+    ) {
+        let [k0, _, k2, _] = ks;
+        let [w0, w1, w2, w3] = if A != 0 && taps.pairs() {
+            let [w0, w1] = taps.load_pair(k0);
+            let [w2, w3] = taps.load_pair(k2);
+            [w0, w1, w2, w3]
+        } else if taps.inside() {
+            map4(ks, |k| taps.load::<true>(k))
+        } else {
+            map4(ks, |k| taps.load::<false>(k))
+        };
+        let [p0, p1] = [int_pair(w0, w1), int_pair(w2, w3)];
+        *out = [p0, p0, p1, p1];
+    }
+
+    /// The packed pairs along x, or along y for faces across x ([`read_face`](Self::read_face)),
+    /// held at the place of their first tap; the fractions in that order.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn cell_sums<const A: usize>(cell: &Cell<A>, [fx, fy, fz]: [__m256; 3]) -> [__m256; 4] {
+        let ([b0, b1, b2, b3], f) = if A == 0 {
+            ([0, 1, 4, 5], [fy, fx, fz])
+        } else {
+            ([0, 2, 4, 6], [fx, fy, fz])
+        };
+        let first = |j: usize| match j {
+            0 => b0,
+            1 => b1,
+            2 => b2,
+            _ => b3,
+        };
+        int_sums(|j| cell.tap(first(j)), map3(f, |v| _mm256_castps_si256(v)))
+    }
+
+    /// Pairs along x: taps `2j` and `2j + 1`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn tap_sums<V: Voxel>(
+        taps: &Taps<'_, V>,
+        f: [__m256; 3],
+        _taus: &[f32; 256],
+    ) -> [__m256; 4] {
+        let f = map3(f, |v| _mm256_castps_si256(v));
+        if taps.pairs() {
+            int_sums(|j| int_pair_of(taps.load_pair(2 * j)), f)
+        } else if taps.inside() {
+            let load = |k| taps.load::<true>(k);
+            int_sums(|j| int_pair(load(2 * j), load(2 * j + 1)), f)
+        } else {
+            let load = |k| taps.load::<false>(k);
+            int_sums(|j| int_pair(load(2 * j), load(2 * j + 1)), f)
+        }
+    }
+
+    /// (The sums are the sample itself.)
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn finish(s: [__m256; 4], _d: f32) -> [__m256; 4] {
+        s
+    }
+
+    /// `fixed_point::front_to_back`: `T = ONE − A`, each channel plus `⌊(T·x + ONE/2)/ONE⌋`
+    /// (`T·x + ONE/2 < 2^32`: the wrapping `i32` product is the `u32` one). A lane that is not
+    /// live takes `T = 0`, whose increments are `⌊(ONE/2)/ONE⌋ = 0`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn over(acc: [__m256; 4], s: [__m256; 4], live: __m256) -> [__m256; 4] {
+        let [ar, ag, ab, aa] = acc;
+        let [cr, cg, cb, a] = s;
+        let int = _mm256_castps_si256;
+        let t = _mm256_sub_epi32(_mm256_set1_epi32(INT_ONE), int(aa));
+        let t = _mm256_and_si256(t, int(live));
+        let half = _mm256_set1_epi32(INT_ONE / 2);
+        let step = |acc: __m256, x: __m256| {
+            let n = _mm256_add_epi32(_mm256_mullo_epi32(t, int(x)), half);
+            _mm256_castsi256_ps(_mm256_add_epi32(int(acc), div65280(n)))
+        };
+        [step(ar, cr), step(ag, cg), step(ab, cb), step(aa, a)]
+    }
+
+    /// `A ≥ a_stop` as `A > a_stop − 1` (`1 ≤ a_stop ≤ ONE`).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn done(acc: &[__m256; 4], a_stop: f32) -> __m256 {
+        let below = _mm256_set1_epi32(a_stop as i32 - 1);
+        _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_castps_si256(acc[3]), below))
+    }
+
+    /// `fixed_point::front_to_back` of each sample, stopping before a sample once
+    /// `A ≥ a_stop` (as `IntRayMarcher::cast` does).
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn serial(
+        acc: &mut [i32; 4],
+        [r, g, b, a]: [__m256; 4],
+        i: u32,
+        samples: u32,
+        a_stop: f32,
+    ) -> Option<u32> {
+        // Every lane holds `C ≤ A ≤ ONE` (`IntMode::combine`'s invariant, whose integer
+        // arithmetic the kernel performs; the accumulator `front_to_back`'s).
+        let narrow = |x: i32| u16::try_from(x).unwrap_or(u16::MAX);
+        let [ar, ag, ab, aa] = *acc;
+        let mut s = IntSample::from_valid([narrow(ar), narrow(ag), narrow(ab)], narrow(aa));
+        let [r, g, b, a] = map4([r, g, b, a], |v| to_i32s(_mm256_castps_si256(v)));
+        let lanes = r.into_iter().zip(g).zip(b).zip(a);
+        let mut end = None;
+        for (k, (((r, g), b), a)) in (i * LANES as u32..).zip(lanes) {
+            if k >= samples {
+                end = Some(samples);
+                break;
+            }
+            if f32::from(s.a()) >= a_stop {
+                end = Some(k);
+                break;
+            }
+            let x = IntSample::from_valid([narrow(r), narrow(g), narrow(b)], narrow(a));
+            s = int_front_to_back(s, x);
+        }
+        let [r, g, b] = s.c().map(i32::from);
+        *acc = [r, g, b, i32::from(s.a())];
+        end
+    }
+}
