@@ -309,7 +309,9 @@ where
             // Eight consecutive samples in the AVX2 lanes (the same positions, integer
             // arithmetic and order of compositing).
             let vol = self.sampler.volume();
-            return crate::arch::avx2::march_one_int(cpu, vol, ray, (t_first, n), d, a_stop);
+            let (stop, none) = (f32::from(a_stop), &[0.0; 256]);
+            use crate::arch::avx2::{march_one, IntOw};
+            return march_one::<V, IntOw>(cpu, vol, ray, (t_first, n), d, stop, none);
         }
         if !S::SKIPS {
             // Software-pipelined: the voxels of sample `j + 1` are read before sample `j` is
@@ -489,7 +491,7 @@ where
         rays: &'r [Ray],
         out: &'o mut [IntSample],
     ) -> (&'r [Ray], &'o mut [IntSample]) {
-        use crate::arch::avx2::{in_packets, march8_int};
+        use crate::arch::avx2::{in_packets, march8, IntOw};
         let Some(cpu) = self.isa.avx2_token() else {
             return (rays, out);
         };
@@ -499,7 +501,8 @@ where
         let (d, a_stop) = (self.step.d(), self.stop.a_stop());
         in_packets(rays, out, |r| {
             let ranges = r.each_ref().map(|r| self.sample_range(r));
-            let acc = march8_int(cpu, self.sampler.volume(), r, &ranges, d, a_stop);
+            let (vol, stop) = (self.sampler.volume(), f32::from(a_stop));
+            let acc = march8::<V, IntOw>(cpu, vol, r, &ranges, d, stop, &[0.0; 256]);
             acc.map(|a| front_to_back(a, self.background))
         })
     }

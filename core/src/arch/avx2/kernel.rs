@@ -4,9 +4,9 @@ use core::arch::x86_64::*;
 
 use super::*;
 
-/// [`march8`] (or [`march8_int`]) in AVX2, of the kind `K` ([`Kind`]); where `REUSE` (parallel rays), the taps' channels
-/// kept as faces across axis `A` ([`Cell`]) and the voxels ahead prefetched. Returns the
-/// accumulated `[r, g, b, α]` lanes as bit patterns.
+/// [`march8`] in AVX2, of the kind `K` ([`Kind`]); where `REUSE` (parallel rays), the taps'
+/// channels kept as faces across axis `A` ([`Cell`]) and the voxels ahead prefetched.
+/// Returns the accumulated `[r, g, b, α]` lanes as bit patterns.
 ///
 /// Where `ONE` ([`march_one`]), the eight lanes are eight consecutive samples of one ray
 /// instead (`rays[0]`, `ranges[0]`; lane `l` of step `j` is sample `8j + l`, at

@@ -21,6 +21,12 @@ pub(crate) trait Kind {
     /// [`march8_avx2`]; [`LAG`] for the extinction modes, 0 for the others).
     const LAG: u32;
 
+    /// A lane's result: a float [`Sample`] or an [`IntSample`].
+    type Out: Copy;
+
+    /// The result of a lane from its accumulated `[r, g, b, α]` (bit patterns).
+    fn out(bits: [i32; 4]) -> Self::Out;
+
     /// Along one axis, the fraction and the two tap coordinates of the positions `p`, for an
     /// axis of `n` voxels (`n` as `f32`, `last = n − 1`).
     unsafe fn split(p: __m256, last: __m256i, n: __m256) -> (__m256, __m256i, __m256i);
@@ -191,6 +197,16 @@ unsafe fn all_taps<M: FloatMode, V: Voxel, const INSIDE: bool>(
 
 impl<M: FloatMode> Kind for M {
     const LAG: u32 = M::LAG;
+    type Out = Sample;
+
+    #[inline(always)]
+    fn out([r, g, b, a]: [i32; 4]) -> Sample {
+        let f = |x: i32| f32::from_bits(x as u32);
+        Sample {
+            c: [f(r), f(g), f(b)],
+            a: f(a),
+        }
+    }
 
     /// `p − ⌊p⌋`, and `⌊p⌋`, `⌊p⌋ + 1` clamped into `[0, n − 1]` (`⌊p⌋` is limited to
     /// `[−1, n]` before the conversion, which the clamp maps to the edges, so no coordinate
@@ -339,13 +355,22 @@ fn weights([fx, fy, fz]: [__m256; 3]) -> [F32x8; 8] {
     trilinear_weights([F32x8(fx), F32x8(fy), F32x8(fz)])
 }
 
-/// The integer `OpacityWeighted` trilinear pipeline at `F = 8` ([`march8_int`]): its
+/// The integer `OpacityWeighted` trilinear pipeline at `F = 8` (see [`march8`]): its
 /// channels, sums and compositing in `i32` lanes (carried in the kernel's `__m256` values as
 /// bit patterns).
 pub(crate) struct IntOw;
 
 impl Kind for IntOw {
     const LAG: u32 = 0;
+    type Out = IntSample;
+
+    /// Every lane holds `C ≤ A ≤ ONE`: `front_to_back`'s invariants, whose integer arithmetic
+    /// the kernel performs.
+    #[inline(always)]
+    fn out([r, g, b, a]: [i32; 4]) -> IntSample {
+        let narrow = |x: i32| u16::try_from(x).unwrap_or(u16::MAX);
+        IntSample::from_valid([narrow(r), narrow(g), narrow(b)], narrow(a))
+    }
 
     /// `IntRayMarcher::quantize`: `p` clamped into `[0, n − 1]` (NaN to 0: `max` returns its
     /// second operand then), `raw = ⌊256·p + ½⌋` (`quantize8`), then the index `raw >> 8` and

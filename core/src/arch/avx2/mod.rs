@@ -6,16 +6,17 @@
 //! and `ExtinctionWeighted` of [`ExtinctionF32`] voxels, front to back,
 //! without opacity correction or empty-space skipping; and, in `i32` lanes, that of
 //! [`IntRayMarcher::cast_rays`](crate::render::IntRayMarcher::cast_rays) for the integer
-//! `OpacityWeighted` trilinear pipeline at `F = 8` ([`march8_int`], [`int_sums`]).
+//! `OpacityWeighted` trilinear pipeline at `F = 8` ([`IntOw`], [`int_sums`]).
 //!
 //! Compiled into every x86-64 build; entered only with an [`Avx2`] token, which only
 //! [`Avx2::detect`] makes (CPUID: AVX2, FMA, and the OS saving the 256-bit registers; every
 //! AVX2 CPU of Intel and AMD has FMA). Elsewhere `cast_rays` keeps its portable four-ray
 //! packets (the integer one casts one ray at a time). Inside the
 //! `#[target_feature(enable = "avx2,fma")]` functions the value intrinsics of `core::arch`
-//! are safe functions; the entries ([`Avx2::run`], [`march8`], [`march8_int`]) call them in an
-//! `unsafe` block whose proof is the token. Five more `unsafe` blocks, each with its
-//! proof: the bit casts between an integer vector and `[i32; 8]` (`to_i32s`, `from_i32s`),
+//! are safe functions; the entries ([`Avx2::run`], [`march8`], [`march_one`]) call them in an
+//! `unsafe` block whose proof is the token, and the kernel calls the methods of [`Kind`]
+//! (`unsafe fn`s compiled for AVX2 and FMA, as the kernel is) in blocks whose proof is the
+//! same. Five more kinds of `unsafe` block, each with its proof: the bit casts between an integer vector and `[i32; 8]` (`to_i32s`, `from_i32s`),
 //! the unchecked voxel loads of [`Taps::load`], taken only after one vector test per read
 //! has shown all 64 tap indices inside the data (eight scalar loads per tap; a gather
 //! instruction was slower on the machine measured), those of [`Taps::load_f32x4`] (16-byte
@@ -46,7 +47,7 @@
 //! `tests/fast_paths.rs` compares `cast_rays` in every instruction set the CPU has with the
 //! baseline `cast`, bit for bit.
 //!
-//! **The integer pipeline** ([`march8_int`], [`IntOw`]) is bit-identical to
+//! **The integer pipeline** ([`IntOw`]) is bit-identical to
 //! [`IntRayMarcher::cast`](crate::render::IntRayMarcher::cast) the same way: the
 //! positions are the float marcher's, each clamped into `[0, n − 1]` and quantized with
 //! round half up to 8 fractional bits (exactly, in `f32`, for volumes up to `2^14` voxels
@@ -208,11 +209,17 @@ pub(crate) fn fits<V: Voxel>(vol: &Volume<'_, V>) -> bool {
 
 /// Marches eight rays front to back, lane `l` over the samples `t₀ + j·d`, `j < n`, with
 /// `(t₀, n) = ranges[l]`, stopping a lane once its `A ≥ a_stop`: the accumulated samples
-/// before the background, bit-identical to the one-ray march of the mode `K` ([`Kind`]:
-/// `OpacityWeighted`, `Separate`, or `ExtinctionWeightedU8` with the `τ` of every opacity
-/// byte in `taus`, which the other modes ignore; or `ExtinctionWeighted`). `V` must be
-/// [`Voxel::STRAIGHT_RGBA8`] (for `ExtinctionWeighted`, [`ExtinctionF32`]: others read as
-/// transparent) and `vol` must [`fits`].
+/// before the background, bit-identical to the one-ray march of the kind `K` ([`Kind`]):
+/// the float modes `OpacityWeighted`, `Separate`, `ExtinctionWeightedU8` (with the `τ` of
+/// every opacity byte in `taus`, which the others ignore) and `ExtinctionWeighted`, where `V`
+/// must be [`Voxel::STRAIGHT_RGBA8`] (for `ExtinctionWeighted`, [`ExtinctionF32`]: others
+/// read as transparent) and `vol` must [`fits`]; or [`IntOw`], the integer `OpacityWeighted`
+/// trilinear march at `F = 8` of `IntRayMarcher::cast`, where `V` must be
+/// [`Voxel::STRAIGHT_RGBA8`], `vol` must [`fits_int`] and `a_stop` is the U8.8 stop level:
+/// the positions `Ray::at` computes, each clamped into `[0, n − 1]` per axis and quantized
+/// (**round half up** to 8 fractional bits, `IntPos::quantize`), sampled by [`int_sums`]
+/// (`IntMode::combine`, bit for bit) and composited by `fixed_point::front_to_back` until
+/// `A ≥ a_stop` before a sample.
 pub(crate) fn march8<V: Voxel, K: Kind>(
     _cpu: Avx2,
     vol: &Volume<'_, V>,
@@ -221,23 +228,22 @@ pub(crate) fn march8<V: Voxel, K: Kind>(
     d: f32,
     a_stop: f32,
     taus: &[f32; 256],
-) -> [Sample; LANES] {
+) -> [K::Out; LANES] {
     // SAFETY: `march8_any` needs a CPU with AVX2 and FMA; `_cpu` exists only where
     // `Avx2::detect` found them on this CPU.
-    let acc = unsafe { march8_any::<V, K>(vol, rays, ranges, d, a_stop, taus) };
-    let [r, g, b, a] = acc.map(|v| v.map(|x| f32::from_bits(x as u32)));
-    let mut out = [Sample::TRANSPARENT; LANES];
+    let [r, g, b, a] = unsafe { march8_any::<V, K>(vol, rays, ranges, d, a_stop, taus) };
+    let mut out = [K::out([0; 4]); LANES];
     for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
-        *o = Sample { c: [r, g, b], a };
+        *o = K::out([r, g, b, a]);
     }
     out
 }
 
 /// One ray front to back over its samples `t₀ + j·d`, `j < n`, with `(t₀, n) = range`, eight
-/// consecutive samples at a time in the lanes, composited in order until `A ≥ a_stop`: the
-/// accumulated sample before the background and the number of samples composited,
-/// bit-identical to the one-ray march (`RayMarcher::cast_counted`) of the mode `K`, as
-/// [`march8`] (whose requirements on `V` and `vol` hold here too).
+/// consecutive samples at a time in the lanes, composited in order until `A ≥ a_stop` (as
+/// the kind's one-ray march stops): the accumulated sample before the background and the
+/// number of samples composited, bit-identical to the one-ray march (`cast_counted`) of the
+/// kind `K`, as [`march8`] (whose requirements on `V`, `vol` and `a_stop` hold here too).
 pub(crate) fn march_one<V: Voxel, K: Kind>(
     _cpu: Avx2,
     vol: &Volume<'_, V>,
@@ -246,75 +252,12 @@ pub(crate) fn march_one<V: Voxel, K: Kind>(
     d: f32,
     a_stop: f32,
     taus: &[f32; 256],
-) -> (Sample, u32) {
+) -> (K::Out, u32) {
     let (rays, ranges) = ([*ray; LANES], [range; LANES]);
     // SAFETY: as in `march8`.
     let out = unsafe { march8_avx2::<V, K, 2, false, true>(vol, &rays, &ranges, d, a_stop, taus) };
     let [[r, n, ..], [g, ..], [b, ..], [a, ..]] = out;
-    let f = |x: i32| f32::from_bits(x as u32);
-    (
-        Sample {
-            c: [f(r), f(g), f(b)],
-            a: f(a),
-        },
-        n as u32,
-    )
-}
-
-/// The integer march of one ray ([`march8_int`]'s, as `IntRayMarcher::cast_counted` does it
-/// for its marchers), eight consecutive samples at a time in the lanes: the accumulated
-/// sample before the background and the number of samples composited.
-pub(crate) fn march_one_int<V: Voxel>(
-    _cpu: Avx2,
-    vol: &Volume<'_, V>,
-    ray: &Ray,
-    range: (f32, u32),
-    d: f32,
-    a_stop: u16,
-) -> (IntSample, u32) {
-    let (rays, ranges) = ([*ray; LANES], [range; LANES]);
-    let stop = f32::from(a_stop);
-    let none = &[0.0; 256];
-    // SAFETY: as in `march8`.
-    let out =
-        unsafe { march8_avx2::<V, IntOw, 2, false, true>(vol, &rays, &ranges, d, stop, none) };
-    let [[r, n, ..], [g, ..], [b, ..], [a, ..]] = out;
-    let narrow = |x: i32| u16::try_from(x).unwrap_or(u16::MAX);
-    (
-        IntSample::from_valid([narrow(r), narrow(g), narrow(b)], narrow(a)),
-        n as u32,
-    )
-}
-
-/// The integer `OpacityWeighted` trilinear march at `F = 8` of eight rays
-/// (`IntRayMarcher::cast_rays`): as [`march8`], with the samples `t₀ + j·d` of
-/// `ranges` (`IntRayMarcher::sample_range`) at the positions `Ray::at` computes, each
-/// clamped into `[0, n − 1]` per axis and quantized (**round half up** to 8 fractional bits,
-/// `IntPos::quantize`), sampled by [`int_sums`] (`IntMode::combine`, bit for bit) and
-/// composited by `fixed_point::front_to_back` until `A ≥ a_stop` before a sample: the
-/// accumulated samples before the background, bit-identical to `IntRayMarcher::cast`'s march.
-/// `V` must be [`Voxel::STRAIGHT_RGBA8`] and `vol` must [`fits_int`].
-pub(crate) fn march8_int<V: Voxel>(
-    _cpu: Avx2,
-    vol: &Volume<'_, V>,
-    rays: &[Ray; LANES],
-    ranges: &[(f32, u32); LANES],
-    d: f32,
-    a_stop: u16,
-) -> [crate::fixed_point::IntSample; LANES] {
-    let stop = f32::from(a_stop);
-    // SAFETY: as in `march8`.
-    let acc = unsafe { march8_any::<V, IntOw>(vol, rays, ranges, d, stop, &[0.0; 256]) };
-    let [r, g, b, a] = acc;
-    let mut out = [crate::fixed_point::IntSample::TRANSPARENT; LANES];
-    for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
-        // Every lane holds `C ≤ A ≤ ONE`: `front_to_back`'s invariants, whose integer
-        // arithmetic the kernel performs.
-        let narrow = |x: i32| u16::try_from(x).unwrap_or(u16::MAX);
-        *o =
-            crate::fixed_point::IntSample::from_valid([narrow(r), narrow(g), narrow(b)], narrow(a));
-    }
-    out
+    (K::out([r, g, b, a]), n as u32)
 }
 
 /// Whether the integer kernel can march `vol`: it [`fits`], and every coordinate times 256
