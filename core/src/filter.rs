@@ -319,10 +319,11 @@ impl<O: TrilinearOrder> Trilinear<O> {
     /// the case of [`extinction_f32`](Self::extinction_f32)), else `None`.
     #[inline(always)]
     fn as_extinction_f32<'a, V: Voxel, M: Mode<V>>(
+        mode: &M,
         vol: &Volume<'a, V>,
     ) -> Option<Volume<'a, ExtinctionF32>> {
-        if EXTINCTION_F32_IN_PLACE && M::EXTINCTION && O::WEIGHTED_SUM {
-            V::as_extinction_f32(vol.data()).map(|d| vol.with_data(d))
+        if EXTINCTION_F32_IN_PLACE && O::WEIGHTED_SUM {
+            mode.extinction_f32(vol)
         } else {
             None
         }
@@ -364,7 +365,7 @@ impl<O: TrilinearOrder> Filter for Trilinear<O> {
         vol: &Volume<'_, V>,
         pos: [f32; 3],
     ) -> Interp<f32> {
-        if let Some(vol) = Self::as_extinction_f32::<V, M>(vol) {
+        if let Some(vol) = Self::as_extinction_f32(mode, vol) {
             return Self::extinction_f32(&vol, pos);
         }
         let (taps, f) = Self::gather(vol, pos);
@@ -378,7 +379,7 @@ impl<O: TrilinearOrder> Filter for Trilinear<O> {
         pos: [[f32; 3]; 4],
     ) -> Interp<F32x4> {
         let [p0, p1, p2, p3] = pos;
-        if let Some(vol) = Self::as_extinction_f32::<V, M>(vol) {
+        if let Some(vol) = Self::as_extinction_f32(mode, vol) {
             let e = |p| Self::extinction_f32(&vol, p);
             return pack_interp([e(p0), e(p1), e(p2), e(p3)]);
         }

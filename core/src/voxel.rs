@@ -53,23 +53,6 @@ pub trait Voxel: Copy {
     #[doc(hidden)]
     const F32_CHANNELS: bool = false;
 
-    /// `true` for straight RGBA bytes read as `n/255` ([`StraightU8`]), whose
-    /// [`rgba8`](Self::rgba8) is the voxel itself: the eight-ray lane kernel of
-    /// [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (the AVX2 instance) reads such
-    /// voxels as 32-bit words. A format that sets it must read as
-    /// `StraightVoxel::straight` = `rgba8` bytes over 255, correctly rounded. `false` by
-    /// default.
-    #[doc(hidden)]
-    const STRAIGHT_RGBA8: bool = false;
-
-    /// The voxel's `[r, g, b, a]` bytes where [`STRAIGHT_RGBA8`](Self::STRAIGHT_RGBA8) is
-    /// `true`; all zero (never read) otherwise.
-    #[inline(always)]
-    #[doc(hidden)]
-    fn rgba8(self) -> [u8; 4] {
-        [0; 4]
-    }
-
     /// `data` itself where `Self` is [`StraightU8`], `None` for every other format: lets the
     /// eight-ray lane kernel (the AVX2 instance) read two neighbouring voxels as one 8-byte word
     /// (a `StraightU8` is its four bytes in memory). Not meant to be overridden.
@@ -198,13 +181,8 @@ pub struct StraightU8(pub [u8; 4]);
 
 impl Voxel for StraightU8 {
     const TRANSPARENT: Self = Self([0; 4]);
-    const STRAIGHT_RGBA8: bool = true;
     fn check(&self) -> Result<(), VoxelFault> {
         Ok(())
-    }
-    #[inline(always)]
-    fn rgba8(self) -> [u8; 4] {
-        self.0
     }
     #[inline(always)]
     fn as_straight_u8(data: &[Self]) -> Option<&[StraightU8]> {

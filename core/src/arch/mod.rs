@@ -23,6 +23,25 @@ pub(crate) mod sse2;
 
 use crate::error::Error;
 
+/// The reads of a tap format ([`TapRead`](crate::mode)) in the instruction sets of the target:
+/// on x86-64 its AVX2 reads; elsewhere none (only the portable kernels are linked). A
+/// supertrait of the formats, so that a mode's type alone picks its reads.
+mod reads {
+    #[cfg(target_arch = "x86_64")]
+    pub use super::avx2::ReadTaps as TapReads;
+
+    /// (No instruction-specific reads on this target.)
+    #[cfg(not(target_arch = "x86_64"))]
+    pub trait TapReads {}
+    #[cfg(not(target_arch = "x86_64"))]
+    impl TapReads for crate::mode::Unorm8 {}
+    #[cfg(not(target_arch = "x86_64"))]
+    impl TapReads for crate::mode::TauOfAlpha8 {}
+    #[cfg(not(target_arch = "x86_64"))]
+    impl TapReads for crate::mode::StoredF32x4 {}
+}
+pub(crate) use reads::TapReads;
+
 /// `$body` in the instruction set `$isa` ([`Isa::run`]); on targets with one instruction set,
 /// `$body` itself, without the closure (whose extra level of inlining changed the Cortex-M
 /// code: 108 more bytes in the minimal float image).

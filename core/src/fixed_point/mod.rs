@@ -54,6 +54,7 @@ pub mod composite;
 pub mod correction;
 pub mod exp_phi;
 pub mod extinction;
+mod lanes8;
 pub mod opacity_weighted;
 pub mod premul;
 pub mod preweighted;
@@ -66,6 +67,8 @@ pub use exp_phi::{ExtinctionTables, IntRatio};
 pub use extinction::{ExtinctionFx, IntExtinction};
 pub use premul::{premultiply, premultiply_voxel, unpremultiply};
 pub use weights::{nearest_index, trilinear_weights, IntWeights};
+
+pub(crate) use lanes8::{IntLaneMode, IntLaneVisitor};
 
 use crate::error::Error;
 use crate::filter::{Nearest, Trilinear, WeightedSum};
@@ -360,11 +363,15 @@ pub trait IntMode<V: Voxel>: sealed::Sealed + Copy + core::fmt::Debug {
     /// integrates over the step itself.
     const OPACITY_BASED: bool = true;
 
-    /// `true` for [`OpacityWeighted`](crate::OpacityWeighted) over
-    /// [`StraightU8`](crate::StraightU8): the mode of the AVX2 packets of
-    /// [`IntRayMarcher::cast_rays`].
+    /// Runs `visitor` for the mode's eight-lane kernel, where it has one
+    /// ([`OpacityWeighted`](crate::OpacityWeighted) over [`StraightU8`](crate::StraightU8),
+    /// the AVX2 packets of [`IntRayMarcher::cast_rays`]): the mode's type picks the kernel.
+    /// `Err(visitor)` for the modes without one.
     #[doc(hidden)]
-    const OPACITY_WEIGHTED_U8: bool = false;
+    #[inline(always)]
+    fn lanes8<X: IntLaneVisitor>(&self, visitor: X) -> Result<X::Out, X> {
+        Err(visitor)
+    }
 
     /// The mode configured for the step ratio `d/d′` (the identity for the opacity-based
     /// modes; [`IntExtinction`] takes the ratio).

@@ -11,9 +11,12 @@
 //! `C̃ ≤ α`: `S_c ≤ 255·S_α`, so `256·S_c/(255·2^s) ≤ 256·S_α/2^s`, and round half up is
 //! monotone. `α ≤ ONE`: `S_α ≤ 255·2^s`.
 
-use super::{levels_to_u88, products_to_u88, sealed, IntMode, IntSample, IntWeights};
+use super::{
+    levels_to_u88, products_to_u88, sealed, IntLaneMode, IntLaneVisitor, IntMode, IntSample,
+    IntWeights,
+};
 use crate::mode::OpacityWeighted;
-use crate::voxel::StraightU8;
+use crate::voxel::{StraightU8, Voxel};
 
 impl sealed::Sealed for OpacityWeighted {}
 
@@ -23,7 +26,10 @@ impl sealed::Sealed for OpacityWeighted {}
 /// within `½·255/α_raw` levels for every opacity, e.g. within `0.498` of a level at
 /// `α = 1/255` (compare the premultiplied-storage limit in [`premul`](super::premul)).
 impl IntMode<StraightU8> for OpacityWeighted {
-    const OPACITY_WEIGHTED_U8: bool = true;
+    #[inline(always)]
+    fn lanes8<X: IntLaneVisitor>(&self, visitor: X) -> Result<X::Out, X> {
+        Ok(visitor.visit(self))
+    }
 
     #[inline(always)]
     fn combine<const K: usize>(&self, taps: &[StraightU8; K], w: &IntWeights<K>) -> IntSample {
@@ -53,5 +59,13 @@ impl IntMode<StraightU8> for OpacityWeighted {
         }
         #[cfg(not(target_arch = "x86_64"))]
         self.combine(taps, &IntWeights::trilinear_frac::<F>(frac))
+    }
+}
+
+impl IntLaneMode for OpacityWeighted {
+    type Voxel = StraightU8;
+    #[inline(always)]
+    fn voxels<V: Voxel>(data: &[V]) -> Option<&[StraightU8]> {
+        V::as_straight_u8(data)
     }
 }

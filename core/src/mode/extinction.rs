@@ -1,14 +1,15 @@
 //! `ExtinctionWeighted`: extinction-based sampling (Kraus, Bürger 2008, eqs. 18–23).
 
 use super::{
-    channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums, Linear,
-    Mode,
+    channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums,
+    LaneMode, LaneVisitor, Linear, Mode, StoredF32x4, NO_TAUS,
 };
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::opacity::{phi_poly_in, PHI_POLY_BELOW};
 use crate::sample::{clamped, Interp, Sample};
-use crate::voxel::ExtinctionVoxel;
+use crate::volume::Volume;
+use crate::voxel::{ExtinctionF32, ExtinctionVoxel, Voxel};
 
 /// Interpolates extinction `τ` and extinction-weighted color `C^τ`, then integrates over the
 /// step: `α = 1 − e^(−τd)`, `C̃ = C^τ·α/τ`.
@@ -31,7 +32,16 @@ impl sealed::Sealed for ExtinctionWeighted {}
 
 impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
     const OPACITY_BASED: bool = false;
-    const EXTINCTION: bool = true;
+
+    #[inline(always)]
+    fn lanes8<X: LaneVisitor>(&self, visitor: X) -> Result<X::Out, X> {
+        Ok(visitor.visit(self))
+    }
+
+    #[inline(always)]
+    fn extinction_f32<'a>(&self, vol: &Volume<'a, V>) -> Option<Volume<'a, ExtinctionF32>> {
+        V::as_extinction_f32(vol.data()).map(|d| vol.with_data(d))
+    }
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
@@ -122,5 +132,24 @@ pub fn integrate_step(c_tau: [f32; 3], tau: f32, d: f32) -> Sample {
     } else {
         let a = -libm::expm1f(-x);
         Sample::clamped(c_tau.map(|c| (c / tau) * a), a)
+    }
+}
+
+impl LaneMode for ExtinctionWeighted {
+    type Voxel = ExtinctionF32;
+    type Taps = StoredF32x4;
+    type W = Linear;
+    const LAG: u32 = 1;
+    #[inline(always)]
+    fn voxels<V: Voxel>(data: &[V]) -> Option<&[ExtinctionF32]> {
+        V::as_extinction_f32(data)
+    }
+    #[inline(always)]
+    fn taus(&self) -> &[f32; 256] {
+        NO_TAUS
+    }
+    #[inline(always)]
+    fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
+        integrate_in(i, d)
     }
 }

@@ -2,13 +2,13 @@
 
 use super::{
     channels_x4, integrate_step, linear_tree, linear_weighted, linear_weighted8_f32, sealed,
-    weighted_sums, Linear, Mode,
+    weighted_sums, LaneMode, LaneVisitor, Linear, Mode, TauOfAlpha8,
 };
 use crate::error::Error;
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
-use crate::voxel::{unorm8, ExtinctionF32, StraightF32, StraightU8};
+use crate::voxel::{unorm8, ExtinctionF32, StraightF32, StraightU8, Voxel};
 
 /// The extinction `τ = −ln(1 − α)/d′` of every opacity byte (`α = n/255`) for a reference
 /// distance `d′`, with the optical depth capped as [`ExtinctionF32::from_straight`] caps it:
@@ -62,7 +62,6 @@ impl TauTable {
     }
 
     /// `τ` of every opacity byte (the eight-ray lane kernel's lookups).
-    #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(crate) fn taus(&self) -> &[f32; 256] {
         &self.tau
@@ -152,8 +151,8 @@ impl Mode<StraightU8> for ExtinctionWeightedU8<'_> {
     const OPACITY_BASED: bool = false;
 
     #[inline(always)]
-    fn tau_table(&self) -> Option<&TauTable> {
-        Some(self.table)
+    fn lanes8<X: LaneVisitor>(&self, visitor: X) -> Result<X::Out, X> {
+        Ok(visitor.visit(self))
     }
 
     #[inline(always)]
@@ -189,6 +188,25 @@ impl Mode<StraightU8> for ExtinctionWeightedU8<'_> {
 
     #[inline(always)]
     fn finish_in<T: Lanes>(&self, i: Interp<T>, d: f32) -> Interp<T> {
+        super::extinction::integrate_in(i, d)
+    }
+}
+
+impl LaneMode for ExtinctionWeightedU8<'_> {
+    type Voxel = StraightU8;
+    type Taps = TauOfAlpha8;
+    type W = Linear;
+    const LAG: u32 = 1;
+    #[inline(always)]
+    fn voxels<V: Voxel>(data: &[V]) -> Option<&[StraightU8]> {
+        V::as_straight_u8(data)
+    }
+    #[inline(always)]
+    fn taus(&self) -> &[f32; 256] {
+        self.table.taus()
+    }
+    #[inline(always)]
+    fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
         super::extinction::integrate_in(i, d)
     }
 }

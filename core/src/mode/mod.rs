@@ -17,19 +17,22 @@
 
 mod extinction;
 mod extinction_u8;
+mod lanes8;
 mod opacity_weighted;
 mod post_classified;
 mod preweighted;
 mod separate;
 
-#[cfg(target_arch = "x86_64")]
-pub(crate) use extinction::integrate_in;
 pub use extinction::{integrate_step, ExtinctionWeighted};
 pub use extinction_u8::{ExtinctionWeightedU8, TauTable};
 pub use opacity_weighted::OpacityWeighted;
 pub use post_classified::PostClassified;
 pub use preweighted::Preweighted;
 pub use separate::Separate;
+
+pub(crate) use lanes8::{
+    ByOpacity, LaneMode, LaneVisitor, Linear, StoredF32x4, TauOfAlpha8, Unorm8, Weighting, NO_TAUS,
+};
 
 use crate::lanes::{pack, unpack, F32x4, Lanes};
 use crate::num::Num;
@@ -49,25 +52,26 @@ pub trait Mode<V: Voxel>: sealed::Sealed + core::fmt::Debug {
     /// [`ExtinctionWeighted`], which integrates over the step itself.
     const OPACITY_BASED: bool;
 
-    /// `true` for [`OpacityWeighted`], one of the two modes the eight-ray lane kernel of
-    /// [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (the AVX2 instance) computes.
-    #[doc(hidden)]
-    const OPACITY_WEIGHTED: bool = false;
-    /// `true` for [`Separate`], the other.
-    #[doc(hidden)]
-    const SEPARATE: bool = false;
-    /// `true` for [`ExtinctionWeighted`], which the eight-ray lane kernel computes over
-    /// [`ExtinctionF32`](crate::voxel::ExtinctionF32) voxels, and `Trilinear` too in builds
-    /// for AVX CPUs, reading the taps in place: both rely on its sums being the plain
-    /// weighted sums of each tap's `[C^τ, τ]` (`linear_weighted8_f32`).
-    #[doc(hidden)]
-    const EXTINCTION: bool = false;
-
-    /// The `τ` table of [`ExtinctionWeightedU8`], the third mode the eight-ray lane kernel
-    /// computes; `None` for the others.
+    /// Runs `visitor` for the mode's eight-lane kernel, where it has one (`OpacityWeighted`,
+    /// `Separate`, `ExtinctionWeightedU8`, `ExtinctionWeighted`): the mode's type picks the
+    /// kernel's instance. `Err(visitor)` for the modes without one.
     #[doc(hidden)]
     #[inline(always)]
-    fn tau_table(&self) -> Option<&TauTable> {
+    fn lanes8<X: LaneVisitor>(&self, visitor: X) -> Result<X::Out, X> {
+        Err(visitor)
+    }
+
+    /// `vol` as [`ExtinctionF32`](crate::voxel::ExtinctionF32) voxels where the mode is
+    /// [`ExtinctionWeighted`] over them, whose trilinear sums are the plain weighted sums of
+    /// each tap's stored `[C^τ, τ]` (`linear_weighted8_f32`), so that a filter may read the
+    /// taps in place; `None` for every other mode and format.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn extinction_f32<'a>(
+        &self,
+        vol: &crate::volume::Volume<'a, V>,
+    ) -> Option<crate::volume::Volume<'a, crate::voxel::ExtinctionF32>> {
+        let _ = vol;
         None
     }
 
@@ -184,34 +188,6 @@ pub(crate) fn channels_x4<V: Copy>(
         ],
         F32x4::from_array([a0, a1, a2, a3]),
     )
-}
-
-/// How a mode weights a tap in its sums ([`weighted_sums`]): from the tap's weight `w` and
-/// its opacity-like channel `a`, the weight of its colors and its term of the `a` sum.
-pub(crate) trait Weighting {
-    /// `(weight of the colors, term of the a sum)`.
-    fn tap<T: Num>(w: T, a: T) -> (T, T);
-}
-
-/// The linear modes' weighting: the colors by `w`, the sum of `w·a`.
-pub(crate) enum Linear {}
-
-impl Weighting for Linear {
-    #[inline(always)]
-    fn tap<T: Num>(w: T, a: T) -> (T, T) {
-        (w, w * a)
-    }
-}
-
-/// [`OpacityWeighted`]'s: `ω = w·α`, the colors by `ω`, the sum of `ω` (eqs. 9–12).
-pub(crate) enum ByOpacity {}
-
-impl Weighting for ByOpacity {
-    #[inline(always)]
-    fn tap<T: Num>(w: T, a: T) -> (T, T) {
-        let omega = w * a;
-        (omega, omega)
-    }
 }
 
 /// The sums of weighted products of every mode, written once for every number type (`f32`,

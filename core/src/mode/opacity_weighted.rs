@@ -1,10 +1,13 @@
 //! `OpacityWeighted`: opacity-weighted color interpolation (Wittenbrink, Malzbender, Goss 1998).
 
-use super::{channels_x4, dot_lanes8, lerp8, sealed, weighted_sums, ByOpacity, Mode};
+use super::{
+    channels_x4, dot_lanes8, lerp8, sealed, weighted_sums, ByOpacity, LaneMode, LaneVisitor, Mode,
+    Unorm8, NO_TAUS,
+};
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{clamped, Interp, Sample};
-use crate::voxel::StraightVoxel;
+use crate::voxel::{StraightU8, StraightVoxel, Voxel};
 
 /// Interpolates colors weighted by opacity (eqs. 9–12): `ω_i = w_i·α_i`, `α = Σ ω`,
 /// `C̃ = Σ ω C`.
@@ -26,7 +29,11 @@ impl sealed::Sealed for OpacityWeighted {}
 
 impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
     const OPACITY_BASED: bool = true;
-    const OPACITY_WEIGHTED: bool = true;
+
+    #[inline(always)]
+    fn lanes8<X: LaneVisitor>(&self, visitor: X) -> Result<X::Out, X> {
+        Ok(visitor.visit(self))
+    }
 
     /// Eqs. 9–12 over straight channels `(C_i, α_i)` with weights `w_i` (`K`M for `ω`, then
     /// `K−1`A for `α` and `K`M `K−1`A per color): the one sum of weighted products of the
@@ -83,5 +90,24 @@ impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
     #[inline(always)]
     fn finish(&self, i: Interp<f32>, d: f32) -> Sample {
         <Self as Mode<V>>::finish_in(self, i, d).into()
+    }
+}
+
+impl LaneMode for OpacityWeighted {
+    type Voxel = StraightU8;
+    type Taps = Unorm8;
+    type W = ByOpacity;
+    const LAG: u32 = 0;
+    #[inline(always)]
+    fn voxels<V: Voxel>(data: &[V]) -> Option<&[StraightU8]> {
+        V::as_straight_u8(data)
+    }
+    #[inline(always)]
+    fn taus(&self) -> &[f32; 256] {
+        NO_TAUS
+    }
+    #[inline(always)]
+    fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
+        <Self as Mode<StraightU8>>::finish_in(&Self, i, d)
     }
 }

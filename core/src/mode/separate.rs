@@ -1,13 +1,13 @@
 //! `Separate`: color and opacity interpolated independently (Levoy 1988/1990).
 
 use super::{
-    channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums, Linear,
-    Mode,
+    channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums,
+    LaneMode, LaneVisitor, Linear, Mode, Unorm8, NO_TAUS,
 };
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{clamped, Interp, Sample};
-use crate::voxel::StraightVoxel;
+use crate::voxel::{StraightU8, StraightVoxel, Voxel};
 
 /// Interpolates straight color and opacity separately, then associates:
 /// `α = Σ wα`, `C̃ = α·Σ wC`.
@@ -26,7 +26,11 @@ impl sealed::Sealed for Separate {}
 
 impl<V: StraightVoxel> Mode<V> for Separate {
     const OPACITY_BASED: bool = true;
-    const SEPARATE: bool = true;
+
+    #[inline(always)]
+    fn lanes8<X: LaneVisitor>(&self, visitor: X) -> Result<X::Out, X> {
+        Ok(visitor.visit(self))
+    }
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
@@ -64,5 +68,24 @@ impl<V: StraightVoxel> Mode<V> for Separate {
             c: [r * a, g * a, b * a],
             a,
         })
+    }
+}
+
+impl LaneMode for Separate {
+    type Voxel = StraightU8;
+    type Taps = Unorm8;
+    type W = Linear;
+    const LAG: u32 = 0;
+    #[inline(always)]
+    fn voxels<V: Voxel>(data: &[V]) -> Option<&[StraightU8]> {
+        V::as_straight_u8(data)
+    }
+    #[inline(always)]
+    fn taus(&self) -> &[f32; 256] {
+        NO_TAUS
+    }
+    #[inline(always)]
+    fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
+        <Self as Mode<StraightU8>>::finish_in(&Self, i, d)
     }
 }

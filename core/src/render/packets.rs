@@ -3,6 +3,8 @@
 //! or eight samples of one ray).
 
 use super::*;
+#[cfg(target_arch = "x86_64")]
+use crate::mode::{LaneMode, LaneVisitor};
 
 impl<'v, V, M, F, O, S> RayMarcher<'v, V, M, F, O, S>
 where
@@ -12,11 +14,9 @@ where
     O: Order,
     S: Skipping,
 {
-    /// Where the eight-ray AVX2 kernel applies (an AVX2 [`Isa`] and an `OpacityWeighted`,
-    /// `Separate` or `ExtinctionWeightedU8` marcher over straight RGBA8 or an
-    /// `ExtinctionWeighted` one over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to back
-    /// without correction or skipping), casts the leading multiple of eight rays with it and
-    /// returns the rest; otherwise returns all of them.
+    /// Where the eight-ray AVX2 kernel applies ([`eight_ray_packets`](Self::eight_ray_packets)),
+    /// casts the leading multiple of eight rays with it and returns the rest; otherwise
+    /// returns all of them.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(super) fn cast_rays8<'r, 'o>(
@@ -24,35 +24,22 @@ where
         rays: &'r [Ray],
         out: &'o mut [Sample],
     ) -> (&'r [Ray], &'o mut [Sample]) {
-        use crate::arch::avx2::{in_packets, march8};
-        use crate::mode::{ExtinctionWeighted, ExtinctionWeightedU8, OpacityWeighted, Separate};
-        let separate = <M as Mode<V>>::SEPARATE;
-        let extinction = <M as Mode<V>>::EXTINCTION;
-        let taus = self.mode.tau_table().map(|t| t.taus());
         let Some(cpu) = self.isa.avx2_token() else {
             return (rays, out);
         };
         if !self.eight_ray_packets() {
             return (rays, out);
         }
-        let a_stop = self.order.termination().a_stop_or_inf();
-        in_packets(rays, out, |r| {
-            let ranges = r.each_ref().map(|r| self.samples(r));
-            let (vol, d) = (&self.volume, self.step.d);
-            let acc = match taus {
-                Some(t) => {
-                    march8::<V, ExtinctionWeightedU8<'static>>(cpu, vol, r, &ranges, d, a_stop, t)
-                }
-                None if extinction => {
-                    march8::<V, ExtinctionWeighted>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256])
-                }
-                None if separate => {
-                    march8::<V, Separate>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256])
-                }
-                None => march8::<V, OpacityWeighted>(cpu, vol, r, &ranges, d, a_stop, &[0.0; 256]),
-            };
-            acc.map(|a| over(a, self.background))
-        })
+        let packets = Packets {
+            marcher: self,
+            cpu,
+            rays,
+            out,
+        };
+        match self.mode.lanes8(packets) {
+            Ok(rest) => rest,
+            Err(p) => (p.rays, p.out),
+        }
     }
 
     /// Where the eight-lane AVX2 kernel applies ([`eight_ray_packets`](Self::eight_ray_packets)),
@@ -61,50 +48,35 @@ where
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(super) fn march_one_avx2(&self, ray: &Ray, range: (f32, u32)) -> Option<(Sample, u32)> {
-        use crate::arch::avx2::march_one;
-        use crate::mode::{ExtinctionWeighted, ExtinctionWeightedU8, OpacityWeighted, Separate};
         let cpu = self.isa.avx2_token()?;
         if !self.eight_ray_packets() {
             return None;
         }
-        let (vol, d) = (&self.volume, self.step.d);
-        let a_stop = self.order.termination().a_stop_or_inf();
-        let none = &[0.0; 256];
-        Some(match self.mode.tau_table().map(|t| t.taus()) {
-            Some(t) => {
-                march_one::<V, ExtinctionWeightedU8<'static>>(cpu, vol, ray, range, d, a_stop, t)
-            }
-            None if <M as Mode<V>>::EXTINCTION => {
-                march_one::<V, ExtinctionWeighted>(cpu, vol, ray, range, d, a_stop, none)
-            }
-            None if <M as Mode<V>>::SEPARATE => {
-                march_one::<V, Separate>(cpu, vol, ray, range, d, a_stop, none)
-            }
-            None => march_one::<V, OpacityWeighted>(cpu, vol, ray, range, d, a_stop, none),
-        })
+        let one = OneRay {
+            marcher: self,
+            cpu,
+            ray,
+            range,
+        };
+        self.mode.lanes8(one).ok().flatten()
     }
 
-    /// Whether the eight-ray AVX2 kernel applies to this marcher (an AVX2 [`Isa`] and an
-    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8` marcher over straight RGBA8 or
-    /// an `ExtinctionWeighted` one over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to
-    /// back without correction or skipping, over a volume it can index).
+    /// Whether the eight-ray AVX2 kernel applies to this marcher: an AVX2 [`Isa`], a mode
+    /// with a lane kernel over voxels of its format (`Mode::lanes8`: `OpacityWeighted`,
+    /// `Separate` and `ExtinctionWeightedU8` over `StraightU8`, `ExtinctionWeighted` over
+    /// `ExtinctionF32`), `Trilinear<WeightedSum>`, front to back without correction or
+    /// skipping, over a volume it can index.
     #[inline]
     pub(super) fn eight_ray_packets(&self) -> bool {
         #[cfg(target_arch = "x86_64")]
         {
-            let rgba8 = V::STRAIGHT_RGBA8
-                && (<M as Mode<V>>::OPACITY_WEIGHTED
-                    || <M as Mode<V>>::SEPARATE
-                    || self.mode.tau_table().is_some());
-            let extinction_f32 =
-                <M as Mode<V>>::EXTINCTION && V::as_extinction_f32(self.volume.data()).is_some();
-            (rgba8 || extinction_f32)
-                && F::TRILINEAR_WEIGHTED_SUM
+            F::TRILINEAR_WEIGHTED_SUM
                 && O::FRONT_TO_BACK
                 && !S::SKIPS
                 && self.correction.is_none()
                 && self.isa.avx2_token().is_some()
                 && crate::arch::avx2::fits(&self.volume)
+                && self.mode.lanes8(Reads(self.volume.data())).unwrap_or(false)
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
@@ -204,5 +176,94 @@ where
             }
         }
         (samples, count)
+    }
+}
+
+/// [`RayMarcher::cast_rays8`] for the lane kernel of the marcher's mode.
+#[cfg(target_arch = "x86_64")]
+struct Packets<'m, 'v, 'r, 'o, V: Voxel, M, F, O, S> {
+    marcher: &'m RayMarcher<'v, V, M, F, O, S>,
+    cpu: crate::arch::avx2::Avx2,
+    rays: &'r [Ray],
+    out: &'o mut [Sample],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<'r, 'o, V, M, F, O, S> LaneVisitor for Packets<'_, '_, 'r, 'o, V, M, F, O, S>
+where
+    V: Voxel,
+    M: Mode<V>,
+    F: Filter,
+    O: Order,
+    S: Skipping,
+{
+    type Out = (&'r [Ray], &'o mut [Sample]);
+
+    #[inline(always)]
+    fn visit<K: LaneMode>(self, mode: &K) -> Self::Out {
+        use crate::arch::avx2::{in_packets, march8};
+        let m = self.marcher;
+        let Some(data) = K::voxels(m.volume.data()) else {
+            return (self.rays, self.out);
+        };
+        let vol = m.volume.with_data(data);
+        let (d, taus) = (m.step.d, mode.taus());
+        let a_stop = m.order.termination().a_stop_or_inf();
+        in_packets(self.rays, self.out, |r| {
+            let ranges = r.each_ref().map(|r| m.samples(r));
+            let acc = march8::<K::Voxel, K>(self.cpu, &vol, r, &ranges, d, a_stop, taus);
+            acc.map(|a| over(a, m.background))
+        })
+    }
+}
+
+/// [`RayMarcher::march_one_avx2`] for the lane kernel of the marcher's mode.
+#[cfg(target_arch = "x86_64")]
+struct OneRay<'m, 'v, 'r, V: Voxel, M, F, O, S> {
+    marcher: &'m RayMarcher<'v, V, M, F, O, S>,
+    cpu: crate::arch::avx2::Avx2,
+    ray: &'r Ray,
+    range: (f32, u32),
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<V, M, F, O, S> LaneVisitor for OneRay<'_, '_, '_, V, M, F, O, S>
+where
+    V: Voxel,
+    M: Mode<V>,
+    F: Filter,
+    O: Order,
+    S: Skipping,
+{
+    type Out = Option<(Sample, u32)>;
+
+    #[inline(always)]
+    fn visit<K: LaneMode>(self, mode: &K) -> Self::Out {
+        let m = self.marcher;
+        let vol = m.volume.with_data(K::voxels(m.volume.data())?);
+        let a_stop = m.order.termination().a_stop_or_inf();
+        Some(crate::arch::avx2::march_one::<K::Voxel, K>(
+            self.cpu,
+            &vol,
+            self.ray,
+            self.range,
+            m.step.d,
+            a_stop,
+            mode.taus(),
+        ))
+    }
+}
+
+/// Whether the lane kernel of a mode reads voxels of the format of `.0`.
+#[cfg(target_arch = "x86_64")]
+struct Reads<'d, V>(&'d [V]);
+
+#[cfg(target_arch = "x86_64")]
+impl<V: Voxel> LaneVisitor for Reads<'_, V> {
+    type Out = bool;
+
+    #[inline(always)]
+    fn visit<K: LaneMode>(self, _mode: &K) -> bool {
+        K::voxels(self.0).is_some()
     }
 }

@@ -1,6 +1,7 @@
-//! What the kernel computes at each step, by type: [`Kind`], implemented by the float modes
-//! the kernel runs ([`FloatMode`]: `OpacityWeighted`, `Separate`, `ExtinctionWeightedU8` over
-//! RGBA8 words, `ExtinctionWeighted` over 16-byte `ExtinctionF32` voxels) and by the integer
+//! What the kernel computes at each step, by type: [`Kind`], implemented by every float mode
+//! with a lane kernel (`mode::LaneMode`: `OpacityWeighted`, `Separate`, `ExtinctionWeightedU8`
+//! over RGBA8 words, `ExtinctionWeighted` over 16-byte `ExtinctionF32` voxels; their taps read
+//! as their [`ReadTaps`] says) and by the integer
 //! `OpacityWeighted` pipeline at `F = 8` ([`IntOw`]). The march itself ([`march8_avx2`]) is
 //! written once over it.
 //!
@@ -11,8 +12,7 @@
 use core::arch::x86_64::*;
 
 use super::*;
-use crate::mode::{ExtinctionWeighted, ExtinctionWeightedU8};
-use crate::sample::Interp;
+use crate::mode::{LaneMode, StoredF32x4, TauOfAlpha8, Unorm8};
 
 /// The per-step operations of one kind of kernel (see the module doc). # Safety of every
 /// method: the CPU must have AVX2 and FMA.
@@ -72,19 +72,12 @@ pub(crate) trait Kind {
     ) -> Option<u32>;
 }
 
-/// A float mode the kernel computes: how it reads a tap, how it weights the sums, how it
-/// finishes a sample. # Safety of the `unsafe` methods: the CPU must have AVX2 and FMA.
-pub(super) trait FloatMode {
-    /// As [`Kind::LAG`].
-    const LAG: u32;
-
-    /// The weights of the sums (`mode::weighted_sums`): `ω = w·α` ([`ByOpacity`]) or `w`
-    /// ([`Linear`]).
-    type W: Weighting;
-
+/// How the kernel reads a tap's channels, for each [`TapRead`] of the float modes.
+/// # Safety of the methods: the CPU must have AVX2 and FMA.
+pub trait ReadTaps {
     /// The channels of eight little-endian RGBA words: `[r, g, b, α]`, each `n/255`
     /// correctly rounded ([`channels`]); `taus` is the `τ` of every opacity byte (read by
-    /// `ExtinctionWeightedU8` only).
+    /// [`TauOfAlpha8`] only).
     #[inline]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn channels(word: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
@@ -104,33 +97,11 @@ pub(super) trait FloatMode {
         // SAFETY: the caller's contract (AVX2 and FMA), which this function has too.
         unsafe { Self::channels(taps.load::<INSIDE>(k), taus) }
     }
-
-    /// The mode's `finish_in` in [`F32x8`] lanes.
-    fn finish(i: Interp<F32x8>, d: f32) -> Interp<F32x8>;
 }
 
-impl FloatMode for OpacityWeighted {
-    const LAG: u32 = 0;
-    type W = ByOpacity;
-    #[inline(always)]
-    fn finish(i: Interp<F32x8>, d: f32) -> Interp<F32x8> {
-        <Self as Mode<StraightU8>>::finish_in(&Self, i, d)
-    }
-}
+impl ReadTaps for Unorm8 {}
 
-impl FloatMode for Separate {
-    const LAG: u32 = 0;
-    type W = Linear;
-    #[inline(always)]
-    fn finish(i: Interp<F32x8>, d: f32) -> Interp<F32x8> {
-        <Self as Mode<StraightU8>>::finish_in(&Self, i, d)
-    }
-}
-
-impl FloatMode for ExtinctionWeightedU8<'_> {
-    const LAG: u32 = LAG;
-    type W = Linear;
-
+impl ReadTaps for TauOfAlpha8 {
     /// `[τ·r, τ·g, τ·b, τ]` with `τ = taus[α byte]`, as `TauTable::extinction`.
     #[inline]
     #[target_feature(enable = "avx2,fma")]
@@ -143,17 +114,9 @@ impl FloatMode for ExtinctionWeightedU8<'_> {
         let mul = _mm256_mul_ps;
         [mul(tau, r), mul(tau, g), mul(tau, b), tau]
     }
-
-    #[inline(always)]
-    fn finish(i: Interp<F32x8>, d: f32) -> Interp<F32x8> {
-        integrate_in(i, d)
-    }
 }
 
-impl FloatMode for ExtinctionWeighted {
-    const LAG: u32 = LAG;
-    type W = Linear;
-
+impl ReadTaps for StoredF32x4 {
     /// Each tap's stored `[C^τ, τ]` ([`Taps::load_f32x4`]).
     #[inline]
     #[target_feature(enable = "avx2,fma")]
@@ -164,38 +127,33 @@ impl FloatMode for ExtinctionWeighted {
     ) -> [__m256; 4] {
         taps.load_f32x4::<INSIDE>(k)
     }
-
-    #[inline(always)]
-    fn finish(i: Interp<F32x8>, d: f32) -> Interp<F32x8> {
-        integrate_in(i, d)
-    }
 }
 
-/// The channels of all eight taps ([`FloatMode::tap`] of each, called here directly: through a
+/// The channels of all eight taps ([`ReadTaps::tap`] of each, called here directly: through a
 /// closure per tap, the one-ray march of 16-byte extinction voxels took 1.18–1.19 of its
 /// former time in quick passes, the reads apparently not inlined).
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn all_taps<M: FloatMode, V: Voxel, const INSIDE: bool>(
+unsafe fn all_taps<R: ReadTaps, V: Voxel, const INSIDE: bool>(
     taps: &Taps<'_, V>,
     taus: &[f32; 256],
 ) -> [[__m256; 4]; 8] {
     // SAFETY: the caller's contract (AVX2 and FMA), which this function has too.
     unsafe {
         [
-            M::tap::<V, INSIDE>(taps, 0, taus),
-            M::tap::<V, INSIDE>(taps, 1, taus),
-            M::tap::<V, INSIDE>(taps, 2, taus),
-            M::tap::<V, INSIDE>(taps, 3, taus),
-            M::tap::<V, INSIDE>(taps, 4, taus),
-            M::tap::<V, INSIDE>(taps, 5, taus),
-            M::tap::<V, INSIDE>(taps, 6, taus),
-            M::tap::<V, INSIDE>(taps, 7, taus),
+            R::tap::<V, INSIDE>(taps, 0, taus),
+            R::tap::<V, INSIDE>(taps, 1, taus),
+            R::tap::<V, INSIDE>(taps, 2, taus),
+            R::tap::<V, INSIDE>(taps, 3, taus),
+            R::tap::<V, INSIDE>(taps, 4, taus),
+            R::tap::<V, INSIDE>(taps, 5, taus),
+            R::tap::<V, INSIDE>(taps, 6, taus),
+            R::tap::<V, INSIDE>(taps, 7, taus),
         ]
     }
 }
 
-impl<M: FloatMode> Kind for M {
+impl<M: LaneMode> Kind for M {
     const LAG: u32 = M::LAG;
     type Out = Sample;
 
@@ -241,16 +199,18 @@ impl<M: FloatMode> Kind for M {
             let [t2, t3] = taps.load_pair(k2);
             // SAFETY: the caller's contract (AVX2 and FMA), which this function has too; so
             // below.
-            *out = map4([t0, t1, t2, t3], |t| unsafe { M::channels(t, taus) });
+            *out = map4([t0, t1, t2, t3], |t| unsafe {
+                <M::Taps as ReadTaps>::channels(t, taus)
+            });
         } else if taps.inside() {
             for (c, k) in out.iter_mut().zip(ks) {
                 // SAFETY: as above.
-                *c = unsafe { M::tap::<V, true>(taps, k, taus) };
+                *c = unsafe { <M::Taps as ReadTaps>::tap::<V, true>(taps, k, taus) };
             }
         } else {
             for (c, k) in out.iter_mut().zip(ks) {
                 // SAFETY: as above.
-                *c = unsafe { M::tap::<V, false>(taps, k, taus) };
+                *c = unsafe { <M::Taps as ReadTaps>::tap::<V, false>(taps, k, taus) };
             }
         }
     }
@@ -277,17 +237,20 @@ impl<M: FloatMode> Kind for M {
             let words = [w0, w1, w2, w3, w4, w5, w6, w7];
             let word = |k: usize| words.get(k).copied().unwrap_or(_mm256_setzero_si256());
             // SAFETY: the caller's contract (AVX2 and FMA), which this function has too.
-            mode_sums::<M::W>(|k| unsafe { M::channels(word(k), taus) }, &w)
+            mode_sums::<M::W>(
+                |k| unsafe { <M::Taps as ReadTaps>::channels(word(k), taus) },
+                &w,
+            )
         } else if taps.inside() {
             // SAFETY: as above.
-            let c = unsafe { all_taps::<M, V, true>(taps, taus) };
+            let c = unsafe { all_taps::<M::Taps, V, true>(taps, taus) };
             mode_sums::<M::W>(
                 |k| c.get(k).copied().unwrap_or([_mm256_setzero_ps(); 4]),
                 &w,
             )
         } else {
             // SAFETY: as above.
-            let c = unsafe { all_taps::<M, V, false>(taps, taus) };
+            let c = unsafe { all_taps::<M::Taps, V, false>(taps, taus) };
             mode_sums::<M::W>(
                 |k| c.get(k).copied().unwrap_or([_mm256_setzero_ps(); 4]),
                 &w,
@@ -298,7 +261,7 @@ impl<M: FloatMode> Kind for M {
     #[inline]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn finish(s: [__m256; 4], d: f32) -> [__m256; 4] {
-        vectors(M::finish(interp(s), d))
+        vectors(M::finish_lanes(interp(s), d))
     }
 
     #[inline]

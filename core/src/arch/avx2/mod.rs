@@ -91,9 +91,7 @@ use core::arch::x86_64::*;
 use crate::composite::{front_to_back, front_to_back_in};
 use crate::filter::trilinear_weights;
 use crate::fixed_point::{front_to_back as int_front_to_back, IntSample};
-use crate::mode::{
-    integrate_in, weighted_sums, ByOpacity, Linear, Mode, OpacityWeighted, Separate, Weighting,
-};
+use crate::mode::{weighted_sums, Weighting};
 use crate::ray::Ray;
 use crate::sample::Sample;
 use crate::volume::Volume;
@@ -108,6 +106,7 @@ mod taps;
 mod tests;
 
 use kernel::*;
+pub use kind::ReadTaps;
 pub(crate) use kind::{IntOw, Kind};
 use lanes::*;
 use sums::*;
@@ -212,10 +211,10 @@ pub(crate) fn fits<V: Voxel>(vol: &Volume<'_, V>) -> bool {
 /// before the background, bit-identical to the one-ray march of the kind `K` ([`Kind`]):
 /// the float modes `OpacityWeighted`, `Separate`, `ExtinctionWeightedU8` (with the `τ` of
 /// every opacity byte in `taus`, which the others ignore) and `ExtinctionWeighted`, where `V`
-/// must be [`Voxel::STRAIGHT_RGBA8`] (for `ExtinctionWeighted`, [`ExtinctionF32`]: others
-/// read as transparent) and `vol` must [`fits`]; or [`IntOw`], the integer `OpacityWeighted`
-/// trilinear march at `F = 8` of `IntRayMarcher::cast`, where `V` must be
-/// [`Voxel::STRAIGHT_RGBA8`], `vol` must [`fits_int`] and `a_stop` is the U8.8 stop level:
+/// must be the mode's `LaneMode::Voxel` ([`StraightU8`]; for `ExtinctionWeighted`,
+/// [`ExtinctionF32`]: others read as transparent) and `vol` must [`fits`]; or [`IntOw`], the
+/// integer `OpacityWeighted` trilinear march at `F = 8` of `IntRayMarcher::cast`, where `V`
+/// must be [`StraightU8`], `vol` must [`fits_int`] and `a_stop` is the U8.8 stop level:
 /// the positions `Ray::at` computes, each clamped into `[0, n − 1]` per axis and quantized
 /// (**round half up** to 8 fractional bits, `IntPos::quantize`), sampled by [`int_sums`]
 /// (`IntMode::combine`, bit for bit) and composited by `fixed_point::front_to_back` until

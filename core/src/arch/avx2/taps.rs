@@ -14,8 +14,10 @@ use super::*;
 /// without a bounds check per voxel (which cost about 13 % of the kernel's time). Were an
 /// index ever outside, every load would be checked and such a voxel read as transparent:
 /// never out of bounds either way.
-pub(crate) struct Taps<'d, V> {
-    data: &'d [V],
+#[derive(Debug)]
+pub struct Taps<'d, V> {
+    /// The voxels' format (read through `bytes` or `f32x4`).
+    format: core::marker::PhantomData<&'d [V]>,
     at: [__m256i; 8],
     /// Set only by `new`, and only when every index of `at` is below `data.len()`.
     inside: bool,
@@ -69,7 +71,7 @@ impl<'d, V: Voxel> Taps<'d, V> {
         let pairs = inside && bytes.is_some() && _mm256_movemask_epi8(side_by_side) == -1;
         let f32x4 = V::as_extinction_f32(data).filter(|e| e.len() == len);
         Self {
-            data,
+            format: core::marker::PhantomData,
             at,
             inside,
             bytes,
@@ -125,31 +127,33 @@ impl<'d, V: Voxel> Taps<'d, V> {
         ]
     }
 
-    /// The voxels of tap `k` as little-endian RGBA words; without bounds checks where
-    /// `INSIDE` and `inside` (a caller that has tested `inside` passes `INSIDE`, so that the
-    /// test here folds away).
+    /// The [`StraightU8`] voxels of tap `k` as little-endian RGBA words; without bounds
+    /// checks where `INSIDE` and `inside` (a caller that has tested `inside` passes `INSIDE`,
+    /// so that the test here folds away). All zero (transparent) for other formats, which
+    /// the kernel never reads this way.
     #[inline]
     #[target_feature(enable = "avx2,fma")]
     pub(super) fn load<const INSIDE: bool>(&self, k: usize) -> __m256i {
-        let word = |v: V| i32::from_le_bytes(v.rgba8());
+        let word = |v: StraightU8| i32::from_le_bytes(v.0);
         // (`k < 8` in every call; another `k` reads transparent voxels.)
-        let Some(&at) = self.at.get(k) else {
+        let (Some(&at), Some(bytes)) = (self.at.get(k), self.bytes) else {
             return _mm256_setzero_si256();
         };
         let at = to_i32s(at);
         if INSIDE && self.inside {
             from_i32s(map8(at, |i| {
-                // SAFETY: `inside`: `0 ≤ i < data.len()` as unsigned numbers, tested by `new`
-                // for every lane of every tap (`max_epu32(max, last) = last` in all lanes).
-                word(unsafe { *self.data.get_unchecked(i as u32 as usize) })
+                // SAFETY: `inside`: `0 ≤ i < data.len()` = `bytes.len()` as unsigned numbers,
+                // tested by `new` for every lane of every tap (`max_epu32(max, last) = last`
+                // in all lanes).
+                word(unsafe { *bytes.get_unchecked(i as u32 as usize) })
             }))
         } else {
             from_i32s(map8(at, |i| {
                 word(
-                    self.data
+                    bytes
                         .get(i as u32 as usize)
                         .copied()
-                        .unwrap_or(V::TRANSPARENT),
+                        .unwrap_or(StraightU8::TRANSPARENT),
                 )
             }))
         }

@@ -1,0 +1,101 @@
+//! What the eight-lane kernels (`arch::avx2`) need to know of a mode, as types: the voxel
+//! format they read, how a tap becomes channels, how the sums weight it, how a sample is
+//! finished. A mode that has such a kernel implements [`LaneMode`] and names itself in
+//! [`Mode::lanes8`](super::Mode::lanes8); the marchers reach the kernel through a
+//! [`LaneVisitor`], so that no flag and no table routes between modes: the mode's type picks
+//! the kernel's instance.
+//!
+//! Not part of the public API: the traits are public only so that the public, sealed
+//! [`Mode`](super::Mode) can name them, and their module is private.
+
+use crate::lanes::Lanes;
+use crate::num::Num;
+use crate::sample::Interp;
+use crate::voxel::Voxel;
+
+/// How a mode weights a tap in its sums (`weighted_sums`): from the tap's weight `w` and
+/// its opacity-like channel `a`, the weight of its colors and its term of the `a` sum.
+pub trait Weighting {
+    /// `(weight of the colors, term of the a sum)`.
+    fn tap<T: Num>(w: T, a: T) -> (T, T);
+}
+
+/// The linear modes' weighting: the colors by `w`, the sum of `w·a`.
+#[derive(Debug)]
+pub enum Linear {}
+
+impl Weighting for Linear {
+    #[inline(always)]
+    fn tap<T: Num>(w: T, a: T) -> (T, T) {
+        (w, w * a)
+    }
+}
+
+/// `OpacityWeighted`'s: `ω = w·α`, the colors by `ω`, the sum of `ω` (eqs. 9–12).
+#[derive(Debug)]
+pub enum ByOpacity {}
+
+impl Weighting for ByOpacity {
+    #[inline(always)]
+    fn tap<T: Num>(w: T, a: T) -> (T, T) {
+        let omega = w * a;
+        (omega, omega)
+    }
+}
+
+/// How a lane kernel turns a tap into its four channels: one of [`Unorm8`],
+/// [`TauOfAlpha8`], [`StoredF32x4`]. Its supertrait is their reads in the target's
+/// instruction sets (`arch`), which implements them for each.
+pub trait TapRead: crate::arch::TapReads {}
+
+/// RGBA8 words, each byte `n` read as `n/255` correctly rounded (`OpacityWeighted`,
+/// `Separate`).
+#[derive(Debug)]
+pub enum Unorm8 {}
+impl TapRead for Unorm8 {}
+
+/// RGBA8 words, read as `[τ·r, τ·g, τ·b, τ]` with the colors `n/255` and `τ` the mode's
+/// value for the opacity byte ([`LaneMode::taus`]; `ExtinctionWeightedU8`).
+#[derive(Debug)]
+pub enum TauOfAlpha8 {}
+impl TapRead for TauOfAlpha8 {}
+
+/// 16-byte `ExtinctionF32` voxels, read as their stored `[C^τ, τ]` (`ExtinctionWeighted`).
+#[derive(Debug)]
+pub enum StoredF32x4 {}
+impl TapRead for StoredF32x4 {}
+
+/// A float mode that the eight-lane kernels compute.
+pub trait LaneMode {
+    /// The voxel format the kernel reads.
+    type Voxel: Voxel;
+    /// How the kernel reads a tap.
+    type Taps: TapRead;
+    /// How the sums weight a tap.
+    type W: Weighting;
+    /// How many steps the kernel lags the finish of a sample behind its sums (a long chain
+    /// of dependent operations, extinction's `exp`, overlaps the next samples' work then).
+    const LAG: u32;
+
+    /// `data` as the kernel's voxel format, where the marcher's format `V` is it (the
+    /// same slice retyped); `None` otherwise, and the marcher keeps its portable paths.
+    fn voxels<V: Voxel>(data: &[V]) -> Option<&[Self::Voxel]>;
+
+    /// The `τ` of every opacity byte, read where `Taps` is [`TauOfAlpha8`] (all zero for the
+    /// other modes, which never read it).
+    fn taus(&self) -> &[f32; 256];
+
+    /// The mode's `Mode::finish_in` (it reads no field of the mode).
+    fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T>;
+}
+
+/// A computation over the lane kernel of a mode ([`Mode::lanes8`](super::Mode::lanes8)).
+pub trait LaneVisitor {
+    /// Its result.
+    type Out;
+    /// Runs it for the mode `mode`, of type `K`.
+    fn visit<K: LaneMode>(self, mode: &K) -> Self::Out;
+}
+
+/// The `τ` table of the modes that read none.
+pub(crate) const NO_TAUS: &[f32; 256] = &[0.0; 256];
