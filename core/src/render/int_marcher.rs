@@ -36,10 +36,9 @@ use crate::skip::{Emptiness, NoSkip, Occupancy, Skipping};
 use crate::volume::Volume;
 use crate::voxel::Voxel;
 #[cfg(target_arch = "x86_64")]
-use crate::{
-    fixed_point::{IntLaneMode, IntLaneVisitor},
-    mode::NO_TAUS,
-};
+mod lanes8;
+#[cfg(target_arch = "x86_64")]
+use lanes8::{OneRay, Packets, Reads};
 
 /// The correction stage, chosen by type so that `d = d′` costs nothing per sample.
 trait Stage {
@@ -568,82 +567,5 @@ where
                 |ray| self.cast_counted_here(ray).0,
             )
         )
-    }
-}
-
-/// [`IntRayMarcher::cast_rays8`] for the lane kernel of the marcher's mode.
-#[cfg(target_arch = "x86_64")]
-struct Packets<'m, 'v, 'r, 'o, V, M, Fl, const F: u32, S> {
-    marcher: &'m IntRayMarcher<'v, V, M, Fl, F, S>,
-    cpu: crate::arch::avx2::Avx2,
-    rays: &'r [Ray],
-    out: &'o mut [IntSample],
-}
-
-#[cfg(target_arch = "x86_64")]
-impl<'r, 'o, V, M, Fl, const F: u32, S> IntLaneVisitor for Packets<'_, '_, 'r, 'o, V, M, Fl, F, S>
-where
-    V: Voxel,
-    M: IntMode<V>,
-    Fl: IntFilter,
-    S: Skipping,
-{
-    type Out = (&'r [Ray], &'o mut [IntSample]);
-
-    #[inline(always)]
-    fn visit<K: IntLaneMode>(self, _mode: &K) -> Self::Out {
-        use crate::arch::avx2::{in_packets, march8, IntOw};
-        let m = self.marcher;
-        let vol = m.sampler.volume();
-        let Some(data) = K::voxels(vol.data()) else {
-            return (self.rays, self.out);
-        };
-        let vol = vol.with_data(data);
-        let (d, a_stop) = (m.step.d(), f32::from(m.stop.a_stop()));
-        in_packets(self.rays, self.out, |r| {
-            let ranges = r.each_ref().map(|r| m.sample_range(r));
-            let acc = march8::<K::Voxel, IntOw>(self.cpu, &vol, r, &ranges, d, a_stop, NO_TAUS);
-            acc.map(|a| front_to_back(a, m.background))
-        })
-    }
-}
-
-/// [`IntRayMarcher`]'s march of one ray by the lane kernel of its mode.
-#[cfg(target_arch = "x86_64")]
-struct OneRay<'v, 'r, V> {
-    vol: &'r Volume<'v, V>,
-    cpu: crate::arch::avx2::Avx2,
-    ray: &'r Ray,
-    range: (f32, u32),
-    d: f32,
-    a_stop: f32,
-}
-
-#[cfg(target_arch = "x86_64")]
-impl<V: Voxel> IntLaneVisitor for OneRay<'_, '_, V> {
-    type Out = Option<(IntSample, u32)>;
-
-    #[inline(always)]
-    fn visit<K: IntLaneMode>(self, _mode: &K) -> Self::Out {
-        use crate::arch::avx2::{march_one, IntOw};
-        let vol = self.vol.with_data(K::voxels(self.vol.data())?);
-        let (ray, range, d, a_stop) = (self.ray, self.range, self.d, self.a_stop);
-        Some(march_one::<K::Voxel, IntOw>(
-            self.cpu, &vol, ray, range, d, a_stop, NO_TAUS,
-        ))
-    }
-}
-
-/// Whether the lane kernel of an integer mode reads voxels of the format of `.0`.
-#[cfg(target_arch = "x86_64")]
-struct Reads<'d, V>(&'d [V]);
-
-#[cfg(target_arch = "x86_64")]
-impl<V: Voxel> IntLaneVisitor for Reads<'_, V> {
-    type Out = bool;
-
-    #[inline(always)]
-    fn visit<K: IntLaneMode>(self, _mode: &K) -> bool {
-        K::voxels(self.0).is_some()
     }
 }
