@@ -14,7 +14,7 @@
 //! opaque region, is reproduced exactly.
 
 use crate::lanes::{pack, unpack, F32x4};
-use crate::mode::{lane_taps, linear_weighted8_f32, pack_interp, tap_columns, Mode};
+use crate::mode::{lane_taps, linear_weighted8_f32, pack_interp, tap_columns, LaneVisitor, Mode};
 use crate::num::Num;
 use crate::sample::Interp;
 use crate::volume::Volume;
@@ -45,10 +45,17 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
     #[doc(hidden)]
     const PACKETS: bool = true;
 
-    /// `true` for [`Trilinear`]`<`[`WeightedSum`]`>`, the filter of the eight-ray lane kernel
-    /// of [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) (the AVX2 instance).
+    /// Runs `visitor` for the eight-lane kernel (the AVX2 instance of
+    /// [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) and `cast`) of `mode` with
+    /// this filter, where there is one: [`Trilinear`]`<`[`WeightedSum`]`>` passes it on to
+    /// the mode ([`Mode::lanes8`]); the filter's and the mode's types pick the kernel.
+    /// `Err(visitor)` for the other filters.
     #[doc(hidden)]
-    const TRILINEAR_WEIGHTED_SUM: bool = false;
+    #[inline(always)]
+    fn lanes8<V: Voxel, M: Mode<V>, X: LaneVisitor>(mode: &M, visitor: X) -> Result<X::Out, X> {
+        let _ = mode;
+        Err(visitor)
+    }
 
     /// Reconstructs the quantities `mode` interpolates at `pos` (voxel units).
     fn interpolate<V: Voxel, M: Mode<V>>(
@@ -115,9 +122,27 @@ impl Filter for Nearest {
 
 /// The evaluation order of trilinear interpolation (Wittenbrink Table 1).
 pub trait TrilinearOrder: sealed::Sealed + Copy + Default + core::fmt::Debug {
-    /// `true` for [`WeightedSum`].
+    /// [`Filter::lanes8`] of [`Trilinear`] in this order: `Err(visitor)` but for
+    /// [`WeightedSum`], the order of the eight-lane kernels.
     #[doc(hidden)]
-    const WEIGHTED_SUM: bool = false;
+    #[inline(always)]
+    fn lanes8<V: Voxel, M: Mode<V>, X: LaneVisitor>(mode: &M, visitor: X) -> Result<X::Out, X> {
+        let _ = mode;
+        Err(visitor)
+    }
+
+    /// `vol` as [`ExtinctionF32`] voxels where `M` is `ExtinctionWeighted` over them and
+    /// this order reads such taps in place ([`WeightedSum`] in builds where
+    /// `EXTINCTION_F32_IN_PLACE`), else `None`.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn extinction_in_place<'a, V: Voxel, M: Mode<V>>(
+        mode: &M,
+        vol: &Volume<'a, V>,
+    ) -> Option<Volume<'a, ExtinctionF32>> {
+        let _ = (mode, vol);
+        None
+    }
 
     /// Interpolates the 8 taps of a cell (tap `i` at corner `(i & 1, (i >> 1) & 1, i >> 2)`)
     /// at fractions `f`.
@@ -167,7 +192,22 @@ impl TrilinearOrder for Tree {
 }
 
 impl TrilinearOrder for WeightedSum {
-    const WEIGHTED_SUM: bool = true;
+    #[inline(always)]
+    fn lanes8<V: Voxel, M: Mode<V>, X: LaneVisitor>(mode: &M, visitor: X) -> Result<X::Out, X> {
+        mode.lanes8(visitor)
+    }
+
+    #[inline(always)]
+    fn extinction_in_place<'a, V: Voxel, M: Mode<V>>(
+        mode: &M,
+        vol: &Volume<'a, V>,
+    ) -> Option<Volume<'a, ExtinctionF32>> {
+        if EXTINCTION_F32_IN_PLACE {
+            mode.extinction_f32(vol)
+        } else {
+            None
+        }
+    }
 
     #[inline(always)]
     fn interpolate<T: Num, V: Voxel, M: Mode<V>>(mode: &M, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
@@ -314,19 +354,15 @@ impl<O: TrilinearOrder> Trilinear<O> {
         }
     }
 
-    /// `vol` as [`ExtinctionF32`] voxels where `M` is `ExtinctionWeighted` in the weighted-sum
-    /// order over them and the build reads such taps in place ([`EXTINCTION_F32_IN_PLACE`];
-    /// the case of [`extinction_f32`](Self::extinction_f32)), else `None`.
+    /// `vol` as [`ExtinctionF32`] voxels where the order reads the taps of `ExtinctionWeighted`
+    /// over them in place ([`TrilinearOrder::extinction_in_place`]; the case of
+    /// [`extinction_f32`](Self::extinction_f32)), else `None`.
     #[inline(always)]
     fn as_extinction_f32<'a, V: Voxel, M: Mode<V>>(
         mode: &M,
         vol: &Volume<'a, V>,
     ) -> Option<Volume<'a, ExtinctionF32>> {
-        if EXTINCTION_F32_IN_PLACE && O::WEIGHTED_SUM {
-            mode.extinction_f32(vol)
-        } else {
-            None
-        }
+        O::extinction_in_place(mode, vol)
     }
 
     /// [`gather`](Self::gather) by the plain path: `⌊x⌋` by `floorf`, every tap clamped to
@@ -336,28 +372,17 @@ impl<O: TrilinearOrder> Trilinear<O> {
         let (x, fx) = split(pos[0]);
         let (y, fy) = split(pos[1]);
         let (z, fz) = split(pos[2]);
-        let (x1, y1, z1) = (
-            x.saturating_add(1),
-            y.saturating_add(1),
-            z.saturating_add(1),
-        );
-        let taps = [
-            vol.fetch_clamped(x, y, z),
-            vol.fetch_clamped(x1, y, z),
-            vol.fetch_clamped(x, y1, z),
-            vol.fetch_clamped(x1, y1, z),
-            vol.fetch_clamped(x, y, z1),
-            vol.fetch_clamped(x1, y, z1),
-            vol.fetch_clamped(x, y1, z1),
-            vol.fetch_clamped(x1, y1, z1),
-        ];
-        (taps, [fx, fy, fz])
+        (vol.cell_clamped(x, y, z), [fx, fy, fz])
     }
 }
 
 impl<O: TrilinearOrder> Filter for Trilinear<O> {
     const TAPS: usize = 8;
-    const TRILINEAR_WEIGHTED_SUM: bool = O::WEIGHTED_SUM;
+
+    #[inline(always)]
+    fn lanes8<V: Voxel, M: Mode<V>, X: LaneVisitor>(mode: &M, visitor: X) -> Result<X::Out, X> {
+        O::lanes8(mode, visitor)
+    }
 
     #[inline(always)]
     fn interpolate<V: Voxel, M: Mode<V>>(

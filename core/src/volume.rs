@@ -141,6 +141,29 @@ impl<'a, V: Voxel> Volume<'a, V> {
     }
 
     /// The 8 voxels of the trilinear cell whose low corner is `(x, y, z)`, in tap order
+    /// (tap `i` at `(x + (i & 1), y + ((i >> 1) & 1), z + (i >> 2))`), each read by
+    /// [`fetch_clamped`](Self::fetch_clamped) (`x + 1` saturating): the clamped gather of
+    /// the float and integer trilinear filters, defined for every corner.
+    #[inline(always)]
+    pub fn cell_clamped(&self, x: isize, y: isize, z: isize) -> [V; 8] {
+        let (x1, y1, z1) = (
+            x.saturating_add(1),
+            y.saturating_add(1),
+            z.saturating_add(1),
+        );
+        [
+            self.fetch_clamped(x, y, z),
+            self.fetch_clamped(x1, y, z),
+            self.fetch_clamped(x, y1, z),
+            self.fetch_clamped(x1, y1, z),
+            self.fetch_clamped(x, y, z1),
+            self.fetch_clamped(x1, y, z1),
+            self.fetch_clamped(x, y1, z1),
+            self.fetch_clamped(x1, y1, z1),
+        ]
+    }
+
+    /// The 8 voxels of the trilinear cell whose low corner is `(x, y, z)`, in tap order
     /// (tap `i` at `(x + (i & 1), y + ((i >> 1) & 1), z + (i >> 2))`), or `None` unless the
     /// whole cell lies inside the grid (`x + 1 < nx`, and so on).
     ///

@@ -5,16 +5,19 @@
 //! Not part of the public API: the traits are public only so that the public, sealed
 //! [`IntMode`](super::IntMode) can name them, and their module is private.
 
+use crate::mode::LaneVoxel;
 use crate::voxel::Voxel;
 
 /// An integer mode that the eight-lane kernel computes.
 pub trait IntLaneMode {
     /// The voxel format the kernel reads.
-    type Voxel: Voxel;
+    type Voxel: LaneVoxel;
 
-    /// `data` as the kernel's voxel format, where the marcher's format `V` is it (the same
-    /// slice retyped); `None` otherwise, and the marcher keeps its portable path.
-    fn voxels<V: Voxel>(data: &[V]) -> Option<&[Self::Voxel]>;
+    /// `data` as the kernel's voxel format ([`LaneVoxel::retype`]).
+    #[inline(always)]
+    fn voxels<V: Voxel>(data: &[V]) -> Option<&[Self::Voxel]> {
+        Self::Voxel::retype(data)
+    }
 }
 
 /// A computation over the lane kernel of an integer mode

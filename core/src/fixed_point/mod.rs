@@ -403,6 +403,21 @@ pub trait IntMode<V: Voxel>: sealed::Sealed + Copy + core::fmt::Debug {
 pub trait IntFilter: sealed::Sealed + Copy + core::fmt::Debug {
     /// Number of voxels read per sample.
     const TAPS: usize;
+
+    /// Runs `visitor` for the eight-lane kernel (the AVX2 instance of
+    /// [`IntRayMarcher`](crate::render::IntRayMarcher)) of `mode` with this filter, where
+    /// there is one: [`Trilinear`] passes it on to the mode ([`IntMode::lanes8`]).
+    /// `Err(visitor)` for [`Nearest`].
+    #[doc(hidden)]
+    #[inline(always)]
+    fn lanes8<V: Voxel, M: IntMode<V>, X: IntLaneVisitor>(
+        mode: &M,
+        visitor: X,
+    ) -> Result<X::Out, X> {
+        let _ = mode;
+        Err(visitor)
+    }
+
     /// Reconstructs an associated sample at `pos`.
     #[inline(always)]
     fn sample<V: Voxel, M: IntMode<V>, const F: u32>(
@@ -464,6 +479,14 @@ impl IntFilter for Trilinear<WeightedSum> {
     type Taps<V: Voxel> = [V; 8];
 
     #[inline(always)]
+    fn lanes8<V: Voxel, M: IntMode<V>, X: IntLaneVisitor>(
+        mode: &M,
+        visitor: X,
+    ) -> Result<X::Out, X> {
+        mode.lanes8(visitor)
+    }
+
+    #[inline(always)]
     fn fetch<V: Voxel, const F: u32>(vol: &Volume<'_, V>, pos: IntPos<F>) -> [V; 8] {
         // Interior fast path: the whole cell inside the grid, no clamps (same taps).
         let [xi, yi, zi] = pos
@@ -473,21 +496,7 @@ impl IntFilter for Trilinear<WeightedSum> {
             return taps;
         }
         let [x, y, z] = pos.index().map(to_isize);
-        let (x1, y1, z1) = (
-            x.saturating_add(1),
-            y.saturating_add(1),
-            z.saturating_add(1),
-        );
-        [
-            vol.fetch_clamped(x, y, z),
-            vol.fetch_clamped(x1, y, z),
-            vol.fetch_clamped(x, y1, z),
-            vol.fetch_clamped(x1, y1, z),
-            vol.fetch_clamped(x, y, z1),
-            vol.fetch_clamped(x1, y, z1),
-            vol.fetch_clamped(x, y1, z1),
-            vol.fetch_clamped(x1, y1, z1),
-        ]
+        vol.cell_clamped(x, y, z)
     }
 
     #[inline(always)]

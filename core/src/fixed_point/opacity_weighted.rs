@@ -16,7 +16,7 @@ use super::{
     IntWeights,
 };
 use crate::mode::OpacityWeighted;
-use crate::voxel::{StraightU8, Voxel};
+use crate::voxel::StraightU8;
 
 impl sealed::Sealed for OpacityWeighted {}
 
@@ -64,8 +64,4 @@ impl IntMode<StraightU8> for OpacityWeighted {
 
 impl IntLaneMode for OpacityWeighted {
     type Voxel = StraightU8;
-    #[inline(always)]
-    fn voxels<V: Voxel>(data: &[V]) -> Option<&[StraightU8]> {
-        V::as_straight_u8(data)
-    }
 }

@@ -2,14 +2,14 @@
 
 use super::{
     channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums,
-    LaneMode, LaneVisitor, Linear, Mode, StoredF32x4, NO_TAUS,
+    LaneMode, LaneVisitor, Linear, Mode, StoredF32x4,
 };
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::opacity::{phi_poly_in, PHI_POLY_BELOW};
 use crate::sample::{clamped, Interp, Sample};
 use crate::volume::Volume;
-use crate::voxel::{ExtinctionF32, ExtinctionVoxel, Voxel};
+use crate::voxel::{ExtinctionF32, ExtinctionVoxel};
 
 /// Interpolates extinction `τ` and extinction-weighted color `C^τ`, then integrates over the
 /// step: `α = 1 − e^(−τd)`, `C̃ = C^τ·α/τ`.
@@ -140,14 +140,6 @@ impl LaneMode for ExtinctionWeighted {
     type Taps = StoredF32x4;
     type W = Linear;
     const LAG: u32 = 1;
-    #[inline(always)]
-    fn voxels<V: Voxel>(data: &[V]) -> Option<&[ExtinctionF32]> {
-        V::as_extinction_f32(data)
-    }
-    #[inline(always)]
-    fn taus(&self) -> &[f32; 256] {
-        NO_TAUS
-    }
     #[inline(always)]
     fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
         integrate_in(i, d)

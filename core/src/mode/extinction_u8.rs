@@ -8,7 +8,7 @@ use crate::error::Error;
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
-use crate::voxel::{unorm8, ExtinctionF32, StraightF32, StraightU8, Voxel};
+use crate::voxel::{unorm8, ExtinctionF32, StraightF32, StraightU8};
 
 /// The extinction `τ = −ln(1 − α)/d′` of every opacity byte (`α = n/255`) for a reference
 /// distance `d′`, with the optical depth capped as [`ExtinctionF32::from_straight`] caps it:
@@ -197,10 +197,6 @@ impl LaneMode for ExtinctionWeightedU8<'_> {
     type Taps = TauOfAlpha8;
     type W = Linear;
     const LAG: u32 = 1;
-    #[inline(always)]
-    fn voxels<V: Voxel>(data: &[V]) -> Option<&[StraightU8]> {
-        V::as_straight_u8(data)
-    }
     #[inline(always)]
     fn taus(&self) -> &[f32; 256] {
         self.table.taus()

@@ -11,7 +11,29 @@
 use crate::lanes::Lanes;
 use crate::num::Num;
 use crate::sample::Interp;
-use crate::voxel::Voxel;
+use crate::voxel::{ExtinctionF32, StraightU8, Voxel};
+
+/// A voxel format that an eight-lane kernel reads: [`StraightU8`] (RGBA8 words, two
+/// neighbours as one 8-byte word) and [`ExtinctionF32`] (one 16-byte vector each).
+pub trait LaneVoxel: Voxel {
+    /// `data` as this format, where the marcher's format `V` is it (the same slice
+    /// retyped); `None` otherwise, and the marcher keeps its portable paths.
+    fn retype<V: Voxel>(data: &[V]) -> Option<&[Self]>;
+}
+
+impl LaneVoxel for StraightU8 {
+    #[inline(always)]
+    fn retype<V: Voxel>(data: &[V]) -> Option<&[Self]> {
+        V::as_straight_u8(data)
+    }
+}
+
+impl LaneVoxel for ExtinctionF32 {
+    #[inline(always)]
+    fn retype<V: Voxel>(data: &[V]) -> Option<&[Self]> {
+        V::as_extinction_f32(data)
+    }
+}
 
 /// How a mode weights a tap in its sums (`weighted_sums`): from the tap's weight `w` and
 /// its opacity-like channel `a`, the weight of its colors and its term of the `a` sum.
@@ -68,7 +90,7 @@ impl TapRead for StoredF32x4 {}
 /// A float mode that the eight-lane kernels compute.
 pub trait LaneMode {
     /// The voxel format the kernel reads.
-    type Voxel: Voxel;
+    type Voxel: LaneVoxel;
     /// How the kernel reads a tap.
     type Taps: TapRead;
     /// How the sums weight a tap.
@@ -77,13 +99,18 @@ pub trait LaneMode {
     /// of dependent operations, extinction's `exp`, overlaps the next samples' work then).
     const LAG: u32;
 
-    /// `data` as the kernel's voxel format, where the marcher's format `V` is it (the
-    /// same slice retyped); `None` otherwise, and the marcher keeps its portable paths.
-    fn voxels<V: Voxel>(data: &[V]) -> Option<&[Self::Voxel]>;
+    /// `data` as the kernel's voxel format ([`LaneVoxel::retype`]).
+    #[inline(always)]
+    fn voxels<V: Voxel>(data: &[V]) -> Option<&[Self::Voxel]> {
+        Self::Voxel::retype(data)
+    }
 
     /// The `τ` of every opacity byte, read where `Taps` is [`TauOfAlpha8`] (all zero for the
     /// other modes, which never read it).
-    fn taus(&self) -> &[f32; 256];
+    #[inline(always)]
+    fn taus(&self) -> &[f32; 256] {
+        NO_TAUS
+    }
 
     /// The mode's `Mode::finish_in` (it reads no field of the mode).
     fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T>;

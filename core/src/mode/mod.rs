@@ -31,7 +31,8 @@ pub use preweighted::Preweighted;
 pub use separate::Separate;
 
 pub(crate) use lanes8::{
-    ByOpacity, LaneMode, LaneVisitor, Linear, StoredF32x4, TauOfAlpha8, Unorm8, Weighting, NO_TAUS,
+    ByOpacity, LaneMode, LaneVisitor, LaneVoxel, Linear, StoredF32x4, TauOfAlpha8, Unorm8,
+    Weighting, NO_TAUS,
 };
 
 use crate::lanes::{pack, unpack, F32x4, Lanes};

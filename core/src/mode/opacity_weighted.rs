@@ -2,12 +2,12 @@
 
 use super::{
     channels_x4, dot_lanes8, lerp8, sealed, weighted_sums, ByOpacity, LaneMode, LaneVisitor, Mode,
-    Unorm8, NO_TAUS,
+    Unorm8,
 };
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{clamped, Interp, Sample};
-use crate::voxel::{StraightU8, StraightVoxel, Voxel};
+use crate::voxel::{StraightU8, StraightVoxel};
 
 /// Interpolates colors weighted by opacity (eqs. 9–12): `ω_i = w_i·α_i`, `α = Σ ω`,
 /// `C̃ = Σ ω C`.
@@ -98,14 +98,6 @@ impl LaneMode for OpacityWeighted {
     type Taps = Unorm8;
     type W = ByOpacity;
     const LAG: u32 = 0;
-    #[inline(always)]
-    fn voxels<V: Voxel>(data: &[V]) -> Option<&[StraightU8]> {
-        V::as_straight_u8(data)
-    }
-    #[inline(always)]
-    fn taus(&self) -> &[f32; 256] {
-        NO_TAUS
-    }
     #[inline(always)]
     fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
         <Self as Mode<StraightU8>>::finish_in(&Self, i, d)

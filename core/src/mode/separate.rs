@@ -2,12 +2,12 @@
 
 use super::{
     channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums,
-    LaneMode, LaneVisitor, Linear, Mode, Unorm8, NO_TAUS,
+    LaneMode, LaneVisitor, Linear, Mode, Unorm8,
 };
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{clamped, Interp, Sample};
-use crate::voxel::{StraightU8, StraightVoxel, Voxel};
+use crate::voxel::{StraightU8, StraightVoxel};
 
 /// Interpolates straight color and opacity separately, then associates:
 /// `α = Σ wα`, `C̃ = α·Σ wC`.
@@ -76,14 +76,6 @@ impl LaneMode for Separate {
     type Taps = Unorm8;
     type W = Linear;
     const LAG: u32 = 0;
-    #[inline(always)]
-    fn voxels<V: Voxel>(data: &[V]) -> Option<&[StraightU8]> {
-        V::as_straight_u8(data)
-    }
-    #[inline(always)]
-    fn taus(&self) -> &[f32; 256] {
-        NO_TAUS
-    }
     #[inline(always)]
     fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
         <Self as Mode<StraightU8>>::finish_in(&Self, i, d)

@@ -320,7 +320,7 @@ where
                 d,
                 a_stop: f32::from(a_stop),
             };
-            if let Ok(Some(done)) = self.sampler.mode().lanes8(one) {
+            if let Ok(Some(done)) = Fl::lanes8(self.sampler.mode(), one) {
                 return done;
             }
         }
@@ -477,14 +477,12 @@ where
     fn eight_ray_packets(&self) -> bool {
         #[cfg(target_arch = "x86_64")]
         {
-            Fl::TAPS == 8
-                && F == 8
+            F == 8
                 && !S::SKIPS
                 && self.correction.is_none()
                 && self.isa.avx2_token().is_some()
                 && crate::arch::avx2::fits_int(self.sampler.volume())
-                && (self.sampler.mode())
-                    .lanes8(Reads(self.sampler.volume().data()))
+                && Fl::lanes8(self.sampler.mode(), Reads(self.sampler.volume().data()))
                     .unwrap_or(false)
         }
         #[cfg(not(target_arch = "x86_64"))]
@@ -515,7 +513,7 @@ where
             rays,
             out,
         };
-        match self.sampler.mode().lanes8(packets) {
+        match Fl::lanes8(self.sampler.mode(), packets) {
             Ok(rest) => rest,
             Err(p) => (p.rays, p.out),
         }

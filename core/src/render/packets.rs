@@ -36,7 +36,7 @@ where
             rays,
             out,
         };
-        match self.mode.lanes8(packets) {
+        match F::lanes8(&self.mode, packets) {
             Ok(rest) => rest,
             Err(p) => (p.rays, p.out),
         }
@@ -58,25 +58,24 @@ where
             ray,
             range,
         };
-        self.mode.lanes8(one).ok().flatten()
+        F::lanes8(&self.mode, one).ok().flatten()
     }
 
-    /// Whether the eight-ray AVX2 kernel applies to this marcher: an AVX2 [`Isa`], a mode
-    /// with a lane kernel over voxels of its format (`Mode::lanes8`: `OpacityWeighted`,
-    /// `Separate` and `ExtinctionWeightedU8` over `StraightU8`, `ExtinctionWeighted` over
-    /// `ExtinctionF32`), `Trilinear<WeightedSum>`, front to back without correction or
-    /// skipping, over a volume it can index.
+    /// Whether the eight-ray AVX2 kernel applies to this marcher: an AVX2 [`Isa`], a filter
+    /// and mode with a lane kernel over voxels of its format (`Filter::lanes8`:
+    /// `Trilinear<WeightedSum>` with `OpacityWeighted`, `Separate` and
+    /// `ExtinctionWeightedU8` over `StraightU8`, `ExtinctionWeighted` over `ExtinctionF32`),
+    /// front to back without correction or skipping, over a volume it can index.
     #[inline]
     pub(super) fn eight_ray_packets(&self) -> bool {
         #[cfg(target_arch = "x86_64")]
         {
-            F::TRILINEAR_WEIGHTED_SUM
-                && O::FRONT_TO_BACK
+            O::FRONT_TO_BACK
                 && !S::SKIPS
                 && self.correction.is_none()
                 && self.isa.avx2_token().is_some()
                 && crate::arch::avx2::fits(&self.volume)
-                && self.mode.lanes8(Reads(self.volume.data())).unwrap_or(false)
+                && F::lanes8(&self.mode, Reads(self.volume.data())).unwrap_or(false)
         }
         #[cfg(not(target_arch = "x86_64"))]
         {

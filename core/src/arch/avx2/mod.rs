@@ -44,7 +44,7 @@
 //! `n·h + (n·l)` with `1/255 = h + l` split into two `f32` (one product, one fused
 //! multiply-add), which is the rounded quotient for every byte (a unit test here checks all
 //! 256).
-//! `tests/fast_paths.rs` compares `cast_rays` in every instruction set the CPU has with the
+//! `tests/fast_paths_avx2.rs` compares `cast_rays` in every instruction set the CPU has with the
 //! baseline `cast`, bit for bit.
 //!
 //! **The integer pipeline** ([`IntOw`]) is bit-identical to
