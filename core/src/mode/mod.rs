@@ -32,8 +32,11 @@ pub use separate::Separate;
 
 pub(crate) use lanes8::{
     ByOpacity, LaneMode, LaneVisitor, LaneVoxel, Linear, StoredF32x4, TauOfAlpha8, Unorm8,
-    Weighting, NO_TAUS,
+    Weighting,
 };
+// (The integer lane kernel's visitors, x86-64 only, pass the empty `τ` table.)
+#[cfg(target_arch = "x86_64")]
+pub(crate) use lanes8::NO_TAUS;
 
 use crate::lanes::{pack, unpack, F32x4, Lanes};
 use crate::num::Num;
