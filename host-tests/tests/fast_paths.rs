@@ -6,16 +6,19 @@
 //! * [`Mode::weighted8_f32`] (four lanes per tap) against [`Mode::weighted`] in `f32`;
 //! * whole rays of [`RayMarcher`] against a plain marcher written here from the public
 //!   kernels (clamped gather, generic weighted sum, `finish`, correction, compositing);
-//! * `cast` (four consecutive samples in lanes) against one sample at a time through
-//!   [`RayMarcher::sample`], and the packets (four rays in lanes) against single rays;
 //! * the integer sampler's interior path and truncating quantization against clamped taps
 //!   and `floor`;
-//! * the packets of `cast_rays` in every instruction set the CPU has ([`Isa::available`]:
-//!   eight rays in AVX2 lanes where it has AVX2) against the baseline `cast`, and the byte
-//!   conversion they use against the library's `n/255` for every byte. On a CPU with AVX2
-//!   and FMA (by `std`'s detection) the tests fail unless the core detects them too, so they
-//!   cannot pass without running the AVX2 instance; coherent packets (rows of parallel rays),
-//!   where that kernel reuses a cell's channels.
+//! * `render_into` and the integer packets in every instruction set the CPU has
+//!   ([`Isa::available`]) against the baseline `cast`. On a CPU with AVX2 and FMA (by
+//!   `std`'s detection) the tests fail unless the core detects them too, so they cannot pass
+//!   without running the AVX2 instance.
+//!
+//! The other fast-path tests are binaries of their own, so that they compile in parallel:
+//! `fast_paths_packets.rs` and `fast_paths_packets_f32.rs` (`cast`, four consecutive samples
+//! in lanes, against one sample at a time through [`RayMarcher::sample`], and the packets
+//! against single rays, for every mode, filter and stage), `fast_paths_avx2.rs` (the
+//! eight-lane AVX2 packets and one-ray marches, random and coherent, and their byte
+//! conversion). Their shared helpers are in `fast_paths_common/`.
 //!
 //! `VOLSAMPLE_FAST_PATH_CASES` sets the number of random cases (default 2000).
 
