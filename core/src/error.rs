@@ -75,6 +75,15 @@ pub enum Error {
     },
     /// The image has zero width or height.
     EmptyImage,
+    /// A band of image rows (`render_rows_into`) does not lie in the image.
+    RowsOutsideImage {
+        /// The band's first row.
+        first: usize,
+        /// Its number of rows.
+        rows: usize,
+        /// The image height.
+        height: usize,
+    },
     /// An isosurface classifier has a non-finite value, an opacity outside `[0, 1]` or a
     /// non-positive thickness.
     InvalidClassifier,
@@ -152,6 +161,14 @@ impl fmt::Display for Error {
                 "image slice holds {actual} pixels but width*height is {expected}"
             ),
             Error::EmptyImage => f.write_str("the image has zero width or height"),
+            Error::RowsOutsideImage {
+                first,
+                rows,
+                height,
+            } => write!(
+                f,
+                "rows {first}..{first}+{rows} do not lie in an image of {height} rows"
+            ),
             Error::InvalidClassifier => f.write_str(
                 "the isosurface classifier needs a finite isovalue, opacity in [0, 1], thickness > 0",
             ),

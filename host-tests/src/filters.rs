@@ -370,6 +370,6 @@ pub fn run(levels: u32) -> Result<(), String> {
     if !(1..=12).contains(&levels) {
         return Err(format!("--levels must be in 1..=12, not {levels}"));
     }
-    print!("{}", table(levels));
+    crate::out::emit(&table(levels));
     Ok(())
 }

@@ -59,3 +59,71 @@ pub fn equalised_error_image(err: &[f32]) -> Vec<[f32; 3]> {
         })
         .collect()
 }
+
+/// Height of the label bar above each panel of [`write_panels`], pixels.
+pub const LABEL_BAR: usize = 18;
+
+/// Writes panels of `width × height` pixels side by side, left to right, into an 8-bit RGB
+/// PNG, each under a bar with its label (DejaVu Sans, [`crate::plot::FONT`]). Returns a
+/// warning where the font is missing (the bars are then left blank).
+///
+/// # Errors
+/// An image over [`crate::view::render::MAX_PIXELS`], I/O or encoder errors, as text.
+pub fn write_panels(
+    path: &Path,
+    width: usize,
+    height: usize,
+    panels: &[(String, Vec<[f32; 3]>)],
+) -> Result<Option<String>, String> {
+    use plotters::prelude::*;
+    let total_w = width.saturating_mul(panels.len());
+    let total_h = height.saturating_add(LABEL_BAR);
+    let px = total_w.saturating_mul(total_h);
+    if px == 0 || px > crate::view::render::MAX_PIXELS {
+        return Err(format!(
+            "{}: a strip of {} panels of {width} x {height} is too large or empty",
+            path.display(),
+            panels.len()
+        ));
+    }
+    let mut buf = vec![0u8; px * 3];
+    for (k, (_, rgb)) in panels.iter().enumerate() {
+        for j in 0..height {
+            for i in 0..width {
+                let o = 3 * ((j + LABEL_BAR) * total_w + k * width + i);
+                if let (Some(p), Some(dst)) = (rgb.get(j * width + i), buf.get_mut(o..o + 3)) {
+                    for (d, x) in dst.iter_mut().zip(p) {
+                        *d = (x.clamp(0.0, 1.0) * 255.0 + 0.5).floor() as u8;
+                    }
+                }
+            }
+        }
+    }
+    let warning = match crate::plot::register_font() {
+        Err(e) => Some(format!("panel labels left out: {e}")),
+        Ok(()) => {
+            let root = BitMapBackend::with_buffer(&mut buf, (total_w as u32, total_h as u32))
+                .into_drawing_area();
+            let style = ("sans-serif", 13).into_font().color(&WHITE);
+            for (k, (label, _)) in panels.iter().enumerate() {
+                root.draw_text(label, &style, ((k * width + 4) as i32, 2))
+                    .map_err(|e| format!("{}: label: {e}", path.display()))?;
+            }
+            root.present()
+                .map_err(|e| format!("{}: label: {e}", path.display()))?;
+            None
+        }
+    };
+    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut enc = png::Encoder::new(
+        std::io::BufWriter::new(file),
+        total_w as u32,
+        total_h as u32,
+    );
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.write_header()
+        .and_then(|mut w| w.write_image_data(&buf))
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(warning)
+}

@@ -458,21 +458,23 @@ pub fn run(out: &std::path::Path) -> Result<(), String> {
     let (w, h, rgb) = fig4_image(&rows, ND, NR, 1);
     let png = encode_png(w, h, &rgb).map_err(|e| e.to_string())?;
     std::fs::write(out.join("fig4.png"), png).map_err(|e| e.to_string())?;
-    println!("Kraus fig. 1/4: max |alpha - (1 - e^-tau_max)| over 0.5 < d < 1 (d step 0.01, r step 0.01)");
-    println!(
+    crate::say!("Kraus fig. 1/4: max |alpha - (1 - e^-tau_max)| over 0.5 < d < 1 (d step 0.01, r step 0.01)");
+    crate::say!(
         "{:>8} {:>15} {:>18}",
-        "tau_max", "opacity-based", "extinction-based"
+        "tau_max",
+        "opacity-based",
+        "extinction-based"
     );
     for (t, o, e) in fig4_max_errors(&rows, 0.5, 1.0) {
-        println!("{t:>8} {o:>15.6} {e:>18.6}");
+        crate::say!("{t:>8} {o:>15.6} {e:>18.6}");
     }
-    println!(
+    crate::say!(
         "wrote {} and {} (rows: opacity-based, extinction-based; columns: tau_max 1, 2, 4, 8;",
         out.join("fig4.csv").display(),
         out.join("fig4.png").display()
     );
-    println!("  d grows to the right, r downwards; red = too opaque, blue = too transparent, full at 0.25)");
-    println!(
+    crate::say!("  d grows to the right, r downwards; red = too opaque, blue = too transparent, full at 0.25)");
+    crate::say!(
         "\nKraus §3.6, d = d', trilinear, {IMAGE}x{IMAGE} px: first d (step 0.05) whose opacity RMS against step d/{REFINE} exceeds 1/255"
     );
     for scene in Scene36::ALL {
@@ -480,7 +482,7 @@ pub fn run(out: &std::path::Path) -> Result<(), String> {
             let sweep = sweep36(scene, method, 2.5).map_err(|e| e.to_string())?;
             let first = first_failure(&sweep)
                 .map_or_else(|| "none up to 2.5".to_string(), |d| format!("{d:.2}"));
-            println!("{:<18} {:<18} {first}", scene.name(), method.name());
+            crate::say!("{:<18} {:<18} {first}", scene.name(), method.name());
         }
     }
     Ok(())

@@ -10,6 +10,7 @@ pub mod images;
 pub mod int_model;
 pub mod isa;
 pub mod kraus;
+pub mod out;
 pub mod pipeline;
 pub mod plot;
 pub mod reference;
@@ -18,6 +19,7 @@ pub mod scene;
 pub mod strategies;
 pub mod tolerance;
 pub mod vectors;
+pub mod view;
 pub mod yardstick;
 
 #[cfg(doctest)]

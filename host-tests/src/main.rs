@@ -5,9 +5,10 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use volsample_host::float_checks::FilterKind;
-use volsample_host::pipeline::{self, Method, ModeChoice, Precision};
+use volsample_host::pipeline::{self, ModeChoice, Precision};
 use volsample_host::report;
-use volsample_host::scene::{self, generate, load, Scene};
+use volsample_host::scene::{generate, load, phantom, Scene};
+use volsample_host::view;
 
 /// Sample and composite RGBA volumes, and show what each sampling choice costs in accuracy
 /// and in time.
@@ -50,45 +51,17 @@ enum Command {
         #[arg(long, default_value_t = 3)]
         runs: usize,
     },
-    /// Render one scene (or your own volume) with chosen modes side by side into a PNG.
-    Render {
-        /// A scene name from `volsample scenes` (ignored with --raw/--nrrd/--nifti).
-        #[arg(long, default_value = "red-32")]
-        scene: String,
-        /// A raw volume file (needs --dims and --type).
-        #[arg(long)]
-        raw: Option<PathBuf>,
-        /// A NRRD volume file.
-        #[arg(long)]
-        nrrd: Option<PathBuf>,
-        /// A NIfTI-1 volume file (.nii or .nii.gz).
-        #[arg(long)]
-        nifti: Option<PathBuf>,
-        /// Dimensions of a raw file, e.g. 64,64,32.
-        #[arg(long, value_delimiter = ',', num_args = 3)]
-        dims: Option<Vec<usize>>,
-        /// Sample type of a raw file: u8, u16, f32.
-        #[arg(long = "type", default_value = "u8")]
-        ty: String,
-        /// Transfer function for a user volume: JSON or text, `s r g b a` per point.
-        #[arg(long)]
-        tf: Option<PathBuf>,
-        /// Modes, comma separated (separate, opacity-weighted, preweighted, preweighted-u8,
-        /// extinction, post-classified).
-        #[arg(
-            long,
-            value_delimiter = ',',
-            default_value = "separate,opacity-weighted"
-        )]
-        modes: Vec<String>,
-        /// Step in voxels.
-        #[arg(long)]
-        step: Option<f32>,
-        /// Image size in pixels (square).
+    /// Render one scene (or your own volume) with chosen modes side by side into a PNG,
+    /// each panel labelled with its mode, filter and precision.
+    Render(Box<RenderArgs>),
+    /// Write a CT-like head phantom (8-bit NRRD: a skull-like shell around soft tissue) and a
+    /// transfer function for it (text), to try `render` on a scan-like volume.
+    Phantom {
+        /// Voxels per axis (8..=1024).
         #[arg(long, default_value_t = 256)]
         size: usize,
-        /// Output PNG.
-        #[arg(long, default_value = "render.png")]
+        /// Output NRRD file; the transfer function goes beside it with `.tf.txt`.
+        #[arg(long, default_value = "ct-head.nrrd")]
         out: PathBuf,
     },
     /// List the scenes and the effects (stages) each calls for.
@@ -135,6 +108,121 @@ enum Command {
     },
 }
 
+/// The `render` command's arguments.
+#[derive(clap::Args, Debug)]
+struct RenderArgs {
+    /// A scene name from `volsample scenes` (ignored with --raw/--nrrd/--nifti).
+    #[arg(long, default_value = "red-32")]
+    scene: String,
+    /// A raw volume file (needs --dims and --type).
+    #[arg(long)]
+    raw: Option<PathBuf>,
+    /// A NRRD volume file.
+    #[arg(long)]
+    nrrd: Option<PathBuf>,
+    /// A NIfTI-1 volume file (.nii or .nii.gz).
+    #[arg(long)]
+    nifti: Option<PathBuf>,
+    /// Dimensions of a raw file: `X,Y,Z` or `X Y Z`.
+    #[arg(long, num_args = 1..=3, value_delimiter = ',', value_name = "X,Y,Z")]
+    dims: Option<Vec<usize>>,
+    /// Sample type of a raw file: u8, u16, f32.
+    #[arg(long = "type", default_value = "u8")]
+    ty: String,
+    /// Transfer function for a user volume: JSON or text, `s r g b a` per point (default: a
+    /// white ramp from transparent at the data's minimum to opacity 0.6 at its maximum).
+    #[arg(long)]
+    tf: Option<PathBuf>,
+    /// Modes, separated by commas or spaces: separate, opacity-weighted, preweighted,
+    /// preweighted-u8, extinction, post-classified.
+    #[arg(long, default_value = "separate,opacity-weighted")]
+    modes: String,
+    /// Reconstruction filter: trilinear, trilinear-tree, nearest, bspline.
+    #[arg(long, default_value = "trilinear")]
+    filter: String,
+    /// Kernel arithmetic: f32, or int (8-bit storage, 8 fractional position bits; separate,
+    /// opacity-weighted and preweighted-u8 with nearest or trilinear).
+    #[arg(long, default_value = "f32")]
+    precision: String,
+    /// Step between samples in world units (mm for files with a spacing; default: half the
+    /// smallest voxel spacing, or the scene's step).
+    #[arg(long)]
+    step: Option<f64>,
+    /// The distance the voxels' opacities hold for, in world units (default: the smallest
+    /// voxel spacing, or the scene's reference distance). Resampling a volume then keeps its
+    /// look.
+    #[arg(long)]
+    unit_distance: Option<f64>,
+    /// Early ray termination once a ray's opacity reaches this, in (0, 1] (default 0.99 for
+    /// your volumes, the scene's own for scenes).
+    #[arg(long)]
+    a_stop: Option<f32>,
+    /// Turn empty-space skipping off (the image is the same; only the time differs).
+    #[arg(long)]
+    no_skip: bool,
+    /// Worker threads (default: one per core). The image is the same for any number.
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+    /// Image width and height in pixels (square); --width and --height override it.
+    #[arg(long, default_value_t = 256)]
+    size: usize,
+    /// Image width in pixels.
+    #[arg(long)]
+    width: Option<usize>,
+    /// Image height in pixels.
+    #[arg(long)]
+    height: Option<usize>,
+    /// Camera: degrees about the up axis from the anterior view (90: from the patient's
+    /// right, 180: from behind). Any camera option replaces a scene's own camera.
+    #[arg(long, allow_hyphen_values = true)]
+    azimuth: Option<f64>,
+    /// Camera: degrees above the horizontal (90: from above).
+    #[arg(long, allow_hyphen_values = true)]
+    elevation: Option<f64>,
+    /// Camera: the view direction as a world vector `X,Y,Z` (replaces azimuth/elevation).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "X,Y,Z"
+    )]
+    view_dir: Option<Vec<f64>>,
+    /// Camera: the world vector pointing up in the image, `X,Y,Z` (default superior, 0,0,1).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "X,Y,Z"
+    )]
+    up: Option<Vec<f64>>,
+    /// Camera: magnification (1 frames the whole volume).
+    #[arg(long)]
+    zoom: Option<f64>,
+    /// Camera: perspective projection with this vertical field of view in degrees (default:
+    /// orthographic).
+    #[arg(long)]
+    perspective: Option<f64>,
+    /// Background color `R,G,B` in [0, 1] (default black).
+    #[arg(long, value_delimiter = ',', value_name = "R,G,B")]
+    background: Option<Vec<f32>>,
+    /// Output PNG.
+    #[arg(long, default_value = "render.png")]
+    out: PathBuf,
+}
+
+/// Three values of a `X,Y,Z` or `X Y Z` option.
+fn three<T: Copy>(name: &str, v: &[T]) -> Result<[T; 3], String> {
+    let forms = if name == "dims" {
+        "X,Y,Z or X Y Z"
+    } else {
+        "X,Y,Z"
+    };
+    <[T; 3]>::try_from(v).map_err(|_| format!("--{name} needs three values, {forms}"))
+}
+
 fn find_scene(name: &str) -> Result<Scene, String> {
     let mut all = generate::paper_scenes(true);
     all.extend(generate::tiny_scenes());
@@ -143,34 +231,40 @@ fn find_scene(name: &str) -> Result<Scene, String> {
         .ok_or_else(|| format!("unknown scene '{name}' (see `volsample scenes`)"))
 }
 
-fn user_scene(
-    raw: Option<PathBuf>,
-    nrrd: Option<PathBuf>,
-    nifti: Option<PathBuf>,
-    dims: Option<Vec<usize>>,
-    ty: &str,
-    tf: Option<PathBuf>,
-) -> Result<Option<Scene>, String> {
-    let (dims, data) = match (raw, nrrd, nifti) {
+/// A user's volume: scalars, where they lie in the world, and the transfer function.
+struct UserVolume {
+    name: String,
+    dims: [usize; 3],
+    data: Vec<f32>,
+    affine: view::Affine,
+    points: Vec<volsample::ControlPoint>,
+}
+
+fn user_volume(a: &RenderArgs) -> Result<Option<UserVolume>, String> {
+    let (path, dims, data) = match (&a.raw, &a.nrrd, &a.nifti) {
         (None, None, None) => return Ok(None),
         (Some(path), None, None) => {
-            let dims: [usize; 3] = dims
-                .ok_or("--raw needs --dims X,Y,Z")?
-                .try_into()
-                .map_err(|_| "--dims needs three values")?;
-            let ty = load::ScalarType::parse(ty)
-                .ok_or_else(|| format!("unknown --type '{ty}' (u8, u16, f32)"))?;
+            let dims = three("dims", a.dims.as_deref().ok_or("--raw needs --dims X,Y,Z")?)?;
+            let ty = load::ScalarType::parse(&a.ty)
+                .ok_or_else(|| format!("unknown --type '{}' (u8, u16, f32)", a.ty))?;
             (
+                path,
                 dims,
-                load::load_raw(&path, dims, ty).map_err(|e| e.to_string())?,
+                load::load_raw(path, dims, ty).map_err(|e| e.to_string())?,
             )
         }
-        (None, Some(path), None) => load::load_nrrd(&path).map_err(|e| e.to_string())?,
-        (None, None, Some(path)) => load::load_nifti(&path).map_err(|e| e.to_string())?,
+        (None, Some(path), None) => {
+            let (d, v) = load::load_nrrd(path).map_err(|e| e.to_string())?;
+            (path, d, v)
+        }
+        (None, None, Some(path)) => {
+            let (d, v) = load::load_nifti(path).map_err(|e| e.to_string())?;
+            (path, d, v)
+        }
         _ => return Err("give one volume file: --raw, --nrrd or --nifti, not several".into()),
     };
-    let points = match tf {
-        Some(p) => load::load_transfer_function(&p).map_err(|e| e.to_string())?,
+    let points = match &a.tf {
+        Some(p) => load::load_transfer_function(p).map_err(|e| e.to_string())?,
         None => {
             // A default ramp over the data's range.
             let (lo, hi) = data
@@ -193,33 +287,219 @@ fn user_scene(
             ]
         }
     };
-    let n = dims.iter().copied().max().unwrap_or(1);
-    Ok(Some(Scene {
-        name: "user".into(),
-        description: "user volume".into(),
+    Ok(Some(UserVolume {
+        name: path
+            .file_name()
+            .map_or_else(|| "volume".into(), |n| n.to_string_lossy().into_owned()),
         dims,
-        data: scene::VolumeData::Scalar(data),
-        classification: scene::Classification::Transfer(points),
-        light: None,
-        step: 0.5,
-        phase: 0.0,
-        d_ref: 1.0,
-        a_stop: 1.0,
-        background: generate::BLACK_BG,
-        camera: {
-            let mut c = generate::camera_towards(n, [0.3, 0.2, 1.0]);
-            if let volsample_host::float_checks::CameraSpec::Orthographic(ref mut eye, _, _, _) = c
-            {
-                let centre = dims.map(|d| (d as f32 - 1.0) * 0.5);
-                let off = (n as f32 - 1.0) * 0.5;
-                for k in 0..3 {
-                    eye[k] += centre[k] - off;
-                }
-            }
-            c
-        },
-        image: [256, 256],
+        data,
+        affine: view::Affine::default(),
+        points,
     }))
+}
+
+/// The modes of `--modes`, separated by commas and/or spaces.
+fn parse_modes(text: &str) -> Result<Vec<ModeChoice>, String> {
+    let names: Vec<&str> = text
+        .split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|s| !s.is_empty())
+        .collect();
+    if names.is_empty() {
+        return Err("--modes names no mode".into());
+    }
+    names
+        .into_iter()
+        .map(|m| {
+            ModeChoice::parse(m).ok_or_else(|| {
+                let valid: Vec<&str> = ModeChoice::ALL.iter().map(|m| m.label()).collect();
+                format!("unknown mode '{m}' (valid: {})", valid.join(", "))
+            })
+        })
+        .collect()
+}
+
+fn parse_filter(name: &str) -> Result<FilterKind, String> {
+    match name.trim() {
+        "trilinear" => Ok(FilterKind::TrilinearSum),
+        "trilinear-tree" => Ok(FilterKind::TrilinearTree),
+        "nearest" => Ok(FilterKind::Nearest),
+        "bspline" => Ok(FilterKind::BSpline),
+        f => Err(format!(
+            "unknown filter '{f}' (valid: trilinear, trilinear-tree, nearest, bspline)"
+        )),
+    }
+}
+
+fn parse_precision(name: &str) -> Result<Precision, String> {
+    match name.trim() {
+        "f32" => Ok(Precision::F32),
+        "int" | "int8" => Ok(Precision::Int8),
+        p => Err(format!("unknown precision '{p}' (valid: f32, int)")),
+    }
+}
+
+/// The camera of `args`, if any camera option is given.
+fn view_of(a: &RenderArgs) -> Result<Option<view::View>, String> {
+    if a.azimuth.is_none()
+        && a.elevation.is_none()
+        && a.view_dir.is_none()
+        && a.up.is_none()
+        && a.zoom.is_none()
+        && a.perspective.is_none()
+    {
+        return Ok(None);
+    }
+    let mut v = view::View {
+        azimuth_deg: a.azimuth.unwrap_or(0.0),
+        elevation_deg: a.elevation.unwrap_or(0.0),
+        zoom: a.zoom.unwrap_or(1.0),
+        ..view::View::default()
+    };
+    if let Some(d) = &a.view_dir {
+        v.direction = Some(three("view-dir", d)?);
+    }
+    if let Some(u) = &a.up {
+        v.up = three("up", u)?;
+    }
+    if let Some(fov) = a.perspective {
+        v.projection = view::Projection::Perspective { fov_y_deg: fov };
+    }
+    Ok(Some(v))
+}
+
+fn render_cmd(a: &RenderArgs) -> Result<(), String> {
+    match a.out.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("png") => {}
+        _ => {
+            return Err(format!(
+                "--out {}: only PNG is written; give a file name ending in .png",
+                a.out.display()
+            ))
+        }
+    }
+    let modes = parse_modes(&a.modes)?;
+    let filter = parse_filter(&a.filter)?;
+    let precision = parse_precision(&a.precision)?;
+    let size = [a.width.unwrap_or(a.size), a.height.unwrap_or(a.size)];
+    let [w, h] = size;
+    match w.checked_mul(h).and_then(|n| n.checked_mul(modes.len())) {
+        Some(n) if n > 0 && n <= view::render::MAX_PIXELS => {}
+        _ => {
+            return Err(format!(
+                "image {w} x {h} times {} panels must have between 1 and {} pixels",
+                modes.len(),
+                view::render::MAX_PIXELS
+            ))
+        }
+    }
+    let background = match &a.background {
+        Some(b) => {
+            let c = three("background", b)?;
+            if !c.iter().all(|x| (0.0..=1.0).contains(x)) {
+                return Err(format!(
+                    "--background {c:?}: each channel must lie in [0, 1]"
+                ));
+            }
+            volsample::Sample { c, a: 1.0 }
+        }
+        None => generate::BLACK_BG,
+    };
+    let wants_post = modes.contains(&ModeChoice::PostClassified);
+    let camera = view_of(a)?;
+    // The volume, its placement, the default step, unit distance and termination, and the
+    // camera.
+    let (name, description, voxels, framed, step, unit, a_stop) = match user_volume(a)? {
+        Some(u) => {
+            let straight = view::render::classify(&u.data, &u.points, |v| v)?;
+            let finest = u.affine.spacing().into_iter().fold(f64::INFINITY, f64::min);
+            let framed = camera
+                .unwrap_or_default()
+                .frame_image(&u.affine, u.dims, size)?;
+            let post = wants_post.then_some((u.data, u.points));
+            (
+                u.name,
+                "your volume".to_string(),
+                view::render::Voxels {
+                    dims: u.dims,
+                    straight,
+                    post,
+                },
+                framed,
+                0.5 * finest,
+                finest,
+                0.99,
+            )
+        }
+        None => {
+            let s = find_scene(&a.scene)?;
+            let prepared = s.prepare().map_err(|e| e.to_string())?;
+            let affine = view::Affine::default();
+            let framed = match camera {
+                Some(v) => v.frame_image(&affine, s.dims, size)?,
+                None => view::Framed::from_index_camera(&s.camera)?,
+            };
+            (
+                s.name.clone(),
+                s.description.clone(),
+                view::render::Voxels {
+                    dims: s.dims,
+                    straight: pipeline::straight_u8(&prepared.rgba),
+                    post: prepared.post,
+                },
+                framed,
+                f64::from(s.step),
+                f64::from(s.d_ref),
+                s.a_stop,
+            )
+        }
+    };
+    if framed.spread > 0.01 {
+        eprintln!(
+            "volsample: warning: perspective view of an anisotropic volume: step lengths differ \
+             by up to {:.1} % across the image (use an orthographic view for exact opacities)",
+            100.0 * framed.spread
+        );
+    }
+    let settings = view::render::Settings {
+        size,
+        step_mm: a.step.unwrap_or(step),
+        unit_mm: a.unit_distance.unwrap_or(unit),
+        a_stop: a.a_stop.unwrap_or(a_stop),
+        skip: !a.no_skip,
+        threads: a.threads,
+        background,
+        progress: !a.quiet,
+    };
+    if !(settings.a_stop > 0.0 && settings.a_stop <= 1.0) {
+        return Err(format!("--a-stop {} must lie in (0, 1]", settings.a_stop));
+    }
+    let mut panels = Vec::new();
+    let mut times = Vec::new();
+    let mut isa = None;
+    for mode in modes {
+        let method = pipeline::Method {
+            mode,
+            precision,
+            filter,
+        };
+        let img = view::render::render(&voxels, &framed, method, &settings)
+            .map_err(|e| format!("{}: {e}", method.label()))?;
+        isa = Some(img.isa);
+        times.push(format!("{:.0} ms", img.seconds * 1e3));
+        panels.push((method.label(), report::displayed(&img.pixels)));
+    }
+    if let Some(warning) = volsample_host::images::write_panels(&a.out, w, h, &panels)? {
+        eprintln!("volsample: warning: {warning}");
+    }
+    let labels: Vec<&str> = panels.iter().map(|p| p.0.as_str()).collect();
+    volsample_host::say!(
+        "{name}: {} ({description}; {}; {}) -> {}",
+        labels.join(" | "),
+        times.join(", "),
+        isa.map_or_else(String::new, |i| format!("{i:?}")),
+        a.out.display()
+    );
+    Ok(())
 }
 
 fn run() -> Result<(), String> {
@@ -243,7 +523,7 @@ fn run() -> Result<(), String> {
                 (false, Preset::Default) => (generate::paper_scenes(false), runs, 1.0 / 16.0),
                 (false, Preset::Tiny) => (generate::tiny_scenes(), 1, 1.0 / 8.0),
             };
-            println!(
+            volsample_host::say!(
                 "volsample report: {} scenes, every mode x precision x filter, {} timed run(s) each",
                 scenes.len(),
                 runs
@@ -256,71 +536,15 @@ fn run() -> Result<(), String> {
                 out: Some(out.clone()),
                 progress: true,
             })?;
-            emit(&report::format_table(&rows))?;
-            println!(
+            volsample_host::out::emit(&report::format_table(&rows));
+            volsample_host::say!(
                 "per-scene rows, images and the error-vs-time plot: {}/",
                 out.display()
             );
             Ok(())
         }
-        Command::Render {
-            scene,
-            raw,
-            nrrd,
-            nifti,
-            dims,
-            ty,
-            tf,
-            modes,
-            step,
-            size,
-            out,
-        } => {
-            let mut s = match user_scene(raw, nrrd, nifti, dims, &ty, tf)? {
-                Some(s) => s,
-                None => find_scene(&scene)?,
-            };
-            if let Some(d) = step {
-                s.step = d;
-            }
-            if size == 0 {
-                return Err("--size must be positive".into());
-            }
-            s.image = [size, size];
-            let prepared = s.prepare().map_err(|e| e.to_string())?;
-            let mut strip = Vec::new();
-            let mut labels = Vec::new();
-            for m in &modes {
-                let mode = ModeChoice::parse(m).ok_or_else(|| format!("unknown mode '{m}'"))?;
-                let method = Method {
-                    mode,
-                    precision: Precision::F32,
-                    filter: FilterKind::TrilinearSum,
-                };
-                let r = pipeline::render(&s, &prepared, method).map_err(|e| format!("{m}: {e}"))?;
-                strip.push(report::displayed(&r.pixels));
-                labels.push(m.clone());
-            }
-            // Side by side, left to right in the order given.
-            let w = size * strip.len();
-            let mut img = vec![[0.0f32; 3]; w * size];
-            for (k, part) in strip.iter().enumerate() {
-                for j in 0..size {
-                    for i in 0..size {
-                        img[j * w + k * size + i] = part[j * size + i];
-                    }
-                }
-            }
-            volsample_host::images::write_rgb(&out, w, size, &img)?;
-            println!(
-                "{}: {} ({}) -> {}",
-                s.name,
-                labels.join(" | "),
-                s.description,
-                out.display()
-            );
-            Ok(())
-        }
+        Command::Render(args) => render_cmd(&args),
+        Command::Phantom { size, out } => write_phantom(size, &out),
         Command::Scenes => {
             let mut text = format!("{:<22} {:<44} effects\n", "scene", "description");
             let mut all = generate::paper_scenes(true);
@@ -333,9 +557,13 @@ fn run() -> Result<(), String> {
                     s.effects()
                 ));
             }
-            emit(&text)
+            volsample_host::out::emit(&text);
+            Ok(())
         }
-        Command::Demo => emit(&volsample_host::demo::run().map_err(|e| e.to_string())?),
+        Command::Demo => {
+            volsample_host::out::emit(&volsample_host::demo::run().map_err(|e| e.to_string())?);
+            Ok(())
+        }
         Command::Filters { levels } => volsample_host::filters::run(levels),
         Command::Kraus { out } => volsample_host::kraus::run(&out),
         Command::Vectors {
@@ -353,21 +581,43 @@ fn run() -> Result<(), String> {
                     None => Ok(s),
                 })
                 .and_then(|s| run_spec(&s, &out))
-                .map(|s| println!("{s}"))
+                .map(|s| volsample_host::say!("{s}"))
                 .map_err(|e| e.to_string())
         }
     }
 }
 
-/// Writes `text` to stdout; a closed pipe (`volsample scenes | head`) ends the output quietly
-/// instead of panicking.
-fn emit(text: &str) -> Result<(), String> {
+/// Writes [`phantom::ct_head`] as an attached raw NRRD and its transfer function as text.
+fn write_phantom(n: usize, out: &std::path::Path) -> Result<(), String> {
     use std::io::Write as _;
-    let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(format!("stdout: {e}")),
-        _ => Ok(()),
+    if !(8..=1024).contains(&n) {
+        return Err(format!("--size {n} must lie in 8..=1024"));
     }
+    let data = phantom::ct_head(n);
+    let io = |e: std::io::Error| format!("{}: {e}", out.display());
+    let mut f = std::io::BufWriter::new(std::fs::File::create(out).map_err(io)?);
+    write!(
+        f,
+        "NRRD0004\ntype: uint8\ndimension: 3\nsizes: {n} {n} {n}\nencoding: raw\n\n"
+    )
+    .and_then(|()| f.write_all(&data))
+    .and_then(|()| f.flush())
+    .map_err(io)?;
+    let tf_path = out.with_extension("tf.txt");
+    let mut text = String::from("# s r g b a (straight color, opacity per voxel length)\n");
+    for p in phantom::ct_transfer_function() {
+        text.push_str(&format!(
+            "{} {} {} {} {}\n",
+            p.s, p.c[0], p.c[1], p.c[2], p.a
+        ));
+    }
+    std::fs::write(&tf_path, text).map_err(|e| format!("{}: {e}", tf_path.display()))?;
+    volsample_host::say!(
+        "{n}^3 CT-like head -> {} (transfer function: {})",
+        out.display(),
+        tf_path.display()
+    );
+    Ok(())
 }
 
 fn main() -> ExitCode {

@@ -10,7 +10,11 @@ use crate::pipeline::{Method, ModeChoice, Precision};
 /// labels and `.ci/run` installs the package.
 pub const FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
-fn register_font() -> Result<(), String> {
+/// Registers [`FONT`] as plotters' "sans-serif" (once per call; cheap next to a plot).
+///
+/// # Errors
+/// A missing or unusable font file, as text.
+pub fn register_font() -> Result<(), String> {
     let bytes =
         std::fs::read(FONT).map_err(|e| format!("{FONT}: {e} (install fonts-dejavu-core)"))?;
     let leaked: &'static [u8] = Box::leak(bytes.into_boxed_slice());

@@ -12,8 +12,33 @@ pub(crate) fn check_len(expected: usize, actual: usize) -> Result<(), Error> {
     }
 }
 
-/// Checks an image buffer: [`Error::EmptyImage`] for a zero width or height,
-/// [`Error::ImageSizeMismatch`] unless `len == width·height`.
+/// Checks a band of image rows: [`Error::EmptyImage`] for a zero width or height,
+/// [`Error::ImageSizeMismatch`] unless `len` is a whole number of rows, and
+/// [`Error::RowsOutsideImage`] unless rows `first .. first + len / width` lie in the image.
+/// Returns the number of rows.
+fn check_rows(width: usize, height: usize, first: usize, len: usize) -> Result<usize, Error> {
+    if width == 0 || height == 0 {
+        return Err(Error::EmptyImage);
+    }
+    let rows = len / width;
+    if rows * width != len {
+        return Err(Error::ImageSizeMismatch {
+            expected: (rows + 1).saturating_mul(width),
+            actual: len,
+        });
+    }
+    match first.checked_add(rows) {
+        Some(end) if end <= height => Ok(rows),
+        _ => Err(Error::RowsOutsideImage {
+            first,
+            rows,
+            height,
+        }),
+    }
+}
+
+/// Checks a whole image: as [`check_rows`] from row 0, but [`Error::ImageSizeMismatch`]
+/// unless `len == width·height`.
 fn check_image(width: usize, height: usize, len: usize) -> Result<(), Error> {
     if width == 0 || height == 0 {
         return Err(Error::EmptyImage);
@@ -31,21 +56,22 @@ fn check_image(width: usize, height: usize, len: usize) -> Result<(), Error> {
     Ok(())
 }
 
-/// Fills a `width × height` image (row-major, row 0 at the top) by `cast_rays` of eight
-/// pixels of a row at a time (a short last chunk of a row: its own pixels only), after
-/// checking the image size: the eight-ray packets' pixel loop of both ray marchers.
+/// Fills rows `first ..` of a `width × height` image (row-major, row 0 at the top; `image`
+/// holds the band's rows) by `cast_rays` of eight pixels of a row at a time (a short last
+/// chunk of a row: its own pixels only): the eight-ray packets' pixel loop of both ray
+/// marchers.
 ///
 /// # Errors
-/// As [`trace_image`], and those of `cast_rays`.
+/// Those of `cast_rays`.
 fn trace_rows8<P, Cam: Camera>(
     camera: &Cam,
-    width: usize,
-    height: usize,
+    (width, height): (usize, usize),
+    first: usize,
     image: &mut [P],
     mut cast_rays: impl FnMut(&[Ray], &mut [P]) -> Result<(), Error>,
 ) -> Result<(), Error> {
-    check_image(width, height, image.len())?;
     for (j, row) in image.chunks_exact_mut(width).enumerate() {
+        let j = first + j;
         for (k, px) in row.chunks_mut(8).enumerate() {
             let i0 = 8 * k;
             // A short last chunk repeats its last pixel's ray; only `px.len()` are cast.
@@ -58,51 +84,61 @@ fn trace_rows8<P, Cam: Camera>(
     Ok(())
 }
 
-/// Fills a `width × height` image (row-major, row 0 at the top) with `cast` of each pixel's
-/// ray, after checking the image size: the pixel loop shared by the float and the integer
-/// ray marchers.
-///
-/// # Errors
-/// [`Error::EmptyImage`] for a zero width or height, [`Error::ImageSizeMismatch`] unless
-/// `image.len() == width·height`.
+/// Fills rows `first ..` of a `width × height` image (`image` holds the band's rows) with
+/// `cast` of each pixel's ray: the pixel loop shared by the float and the integer ray
+/// marchers.
 fn trace_image<P, Cam: Camera>(
     camera: &Cam,
-    width: usize,
-    height: usize,
+    (width, height): (usize, usize),
+    first: usize,
     image: &mut [P],
     cast: impl Fn(&Ray) -> P,
-) -> Result<(), Error> {
-    check_image(width, height, image.len())?;
+) {
     for (j, row) in image.chunks_exact_mut(width).enumerate() {
         for (i, px) in row.iter_mut().enumerate() {
-            *px = cast(&camera.ray(i, j, width, height));
+            *px = cast(&camera.ray(i, first + j, width, height));
         }
     }
-    Ok(())
 }
 
-/// The image of both ray marchers' `render_into`: where `packets`, eight pixels of a row at a
-/// time by `cast_rays` (as many rays as outputs; [`trace_rows8`]), else each pixel by
-/// `cast` ([`trace_image`]).
+/// The image of both ray marchers' `render_into` (`rows: None`, the whole image) and
+/// `render_rows_into` (`rows: Some(first)`, the band of rows from `first` that `image`
+/// holds): where `packets`, eight pixels of a row at a time by `cast_rays` (as many rays as
+/// outputs; [`trace_rows8`]), else each pixel by `cast` ([`trace_image`]). Every pixel is
+/// the same whether rendered in the whole image or in a band.
 ///
 /// # Errors
-/// As [`trace_image`].
+/// [`Error::EmptyImage`] for a zero width or height; [`Error::ImageSizeMismatch`] unless
+/// `image.len()` is `width·height` (whole image) or a multiple of `width` (band);
+/// [`Error::RowsOutsideImage`] for a band that does not lie in the image.
 #[inline(always)]
 pub(crate) fn render_image<P, Cam: Camera>(
     camera: &Cam,
-    (width, height): (usize, usize),
+    size: (usize, usize),
+    rows: Option<usize>,
     image: &mut [P],
     packets: bool,
     mut cast_rays: impl FnMut(&[Ray], &mut [P]),
     cast: impl Fn(&Ray) -> P,
 ) -> Result<(), Error> {
+    let first = match rows {
+        None => {
+            check_image(size.0, size.1, image.len())?;
+            0
+        }
+        Some(first) => {
+            check_rows(size.0, size.1, first, image.len())?;
+            first
+        }
+    };
     if packets {
-        trace_rows8(camera, width, height, image, |rays, px| {
+        trace_rows8(camera, size, first, image, |rays, px| {
             check_len(rays.len(), px.len())?;
             cast_rays(rays, px);
             Ok(())
         })
     } else {
-        trace_image(camera, width, height, image, cast)
+        trace_image(camera, size, first, image, cast);
+        Ok(())
     }
 }

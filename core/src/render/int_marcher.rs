@@ -38,7 +38,7 @@ use crate::voxel::Voxel;
 #[cfg(target_arch = "x86_64")]
 mod lanes8;
 #[cfg(target_arch = "x86_64")]
-use lanes8::{OneRay, Packets, Reads};
+use lanes8::{OneRay, Reads};
 
 /// The correction stage, chosen by type so that `d = d′` costs nothing per sample.
 trait Stage {
@@ -474,7 +474,7 @@ where
     /// Whether the eight-ray AVX2 kernel applies: an AVX2 [`Isa`] and an `OpacityWeighted` trilinear pipeline over straight RGBA8 voxels at `F = 8`
     /// without correction or skipping, over a volume the kernel can index.
     #[inline]
-    fn eight_ray_packets(&self) -> bool {
+    pub(super) fn eight_ray_packets(&self) -> bool {
         #[cfg(target_arch = "x86_64")]
         {
             F == 8
@@ -488,34 +488,6 @@ where
         #[cfg(not(target_arch = "x86_64"))]
         {
             false
-        }
-    }
-
-    /// Where the eight-ray kernel applies ([`eight_ray_packets`](Self::eight_ray_packets)),
-    /// casts the leading multiple of eight rays with it and returns the rest; otherwise
-    /// returns all of them.
-    #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
-    fn cast_rays8<'r, 'o>(
-        &self,
-        rays: &'r [Ray],
-        out: &'o mut [IntSample],
-    ) -> (&'r [Ray], &'o mut [IntSample]) {
-        let Some(cpu) = self.isa.avx2_token() else {
-            return (rays, out);
-        };
-        if !self.eight_ray_packets() {
-            return (rays, out);
-        }
-        let packets = Packets {
-            marcher: self,
-            cpu,
-            rays,
-            out,
-        };
-        match Fl::lanes8(self.sampler.mode(), packets) {
-            Ok(rest) => rest,
-            Err(p) => (p.rays, p.out),
         }
     }
 
@@ -554,11 +526,43 @@ where
         height: usize,
         image: &mut [IntSample],
     ) -> Result<(), Error> {
+        self.render_band(camera, (width, height), None, image)
+    }
+
+    /// Renders rows `first_row ..` of a `width × height` image into `rows` (a whole number of
+    /// rows, row-major): each pixel exactly as [`render_into`](Self::render_into) renders it,
+    /// so bands rendered in any order, on any thread, make the same image. The core has no
+    /// threads; a host splits the image into bands and renders them in parallel.
+    ///
+    /// # Errors
+    /// [`Error::EmptyImage`] for a zero width or height, [`Error::ImageSizeMismatch`] unless
+    /// `rows.len()` is a multiple of `width`, [`Error::RowsOutsideImage`] unless the band lies
+    /// in the image.
+    pub fn render_rows_into<Cam: Camera>(
+        &self,
+        camera: &Cam,
+        (width, height): (usize, usize),
+        first_row: usize,
+        rows: &mut [IntSample],
+    ) -> Result<(), Error> {
+        self.render_band(camera, (width, height), Some(first_row), rows)
+    }
+
+    /// [`render_into`](Self::render_into) (`first_row: None`) and
+    /// [`render_rows_into`](Self::render_rows_into).
+    fn render_band<Cam: Camera>(
+        &self,
+        camera: &Cam,
+        size: (usize, usize),
+        first_row: Option<usize>,
+        image: &mut [IntSample],
+    ) -> Result<(), Error> {
         in_isa!(
             self.isa,
             render_image(
                 camera,
-                (width, height),
+                size,
+                first_row,
                 image,
                 self.eight_ray_packets(),
                 |rays, px| self.cast_rays_here(rays, px),

@@ -525,11 +525,43 @@ where
         height: usize,
         image: &mut [Sample],
     ) -> Result<(), Error> {
+        self.render_band(camera, (width, height), None, image)
+    }
+
+    /// Renders rows `first_row ..` of a `width × height` image into `rows` (a whole number of
+    /// rows, row-major): each pixel exactly as [`render_into`](Self::render_into) renders it,
+    /// so bands rendered in any order, on any thread, make the same image. The core has no
+    /// threads; a host splits the image into bands and renders them in parallel.
+    ///
+    /// # Errors
+    /// [`Error::EmptyImage`] for a zero width or height, [`Error::ImageSizeMismatch`] unless
+    /// `rows.len()` is a multiple of `width`, [`Error::RowsOutsideImage`] unless the band lies
+    /// in the image.
+    pub fn render_rows_into<Cam: Camera>(
+        &self,
+        camera: &Cam,
+        (width, height): (usize, usize),
+        first_row: usize,
+        rows: &mut [Sample],
+    ) -> Result<(), Error> {
+        self.render_band(camera, (width, height), Some(first_row), rows)
+    }
+
+    /// [`render_into`](Self::render_into) (`first_row: None`) and
+    /// [`render_rows_into`](Self::render_rows_into).
+    fn render_band<Cam: Camera>(
+        &self,
+        camera: &Cam,
+        size: (usize, usize),
+        first_row: Option<usize>,
+        image: &mut [Sample],
+    ) -> Result<(), Error> {
         in_isa!(
             self.isa,
             render_image(
                 camera,
-                (width, height),
+                size,
+                first_row,
                 image,
                 self.eight_ray_packets(),
                 |rays, px| self.cast_rays_here(rays, px),

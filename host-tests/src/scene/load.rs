@@ -476,7 +476,7 @@ pub fn load_transfer_function(path: &Path) -> Result<Vec<ControlPoint>, LoadErro
                             .map(serde_json::Value::as_f64)
                             .collect::<Option<Vec<f64>>>()
                     })
-                    .ok_or_else(|| bad(path, format!("point {i} is not an array of numbers")))
+                    .ok_or_else(|| bad(path, format!("point {} is not an array of numbers", i + 1)))
             })
             .collect::<Result<_, _>>()?
     } else {
@@ -502,11 +502,50 @@ pub fn load_transfer_function(path: &Path) -> Result<Vec<ControlPoint>, LoadErro
             }),
             _ => Err(bad(
                 path,
-                format!("point {i} has {} values, need 5 (s r g b a)", r.len()),
+                format!("point {} has {} values, need 5 (s r g b a)", i + 1, r.len()),
             )),
         })
         .collect::<Result<Vec<_>, _>>()?;
-    volsample::TransferFunction::<64>::new(&points)
-        .map_err(|e| bad(path, format!("transfer function: {e}")))?;
+    check_points(&points).map_err(|e| bad(path, e))?;
     Ok(points)
+}
+
+/// Names the first bad control point of a transfer function, counting from 1 (the core
+/// only says what is wrong, not where).
+///
+/// # Errors
+/// The first point with a non-finite value, a color or opacity outside `[0, 1]`, or a
+/// value not above the previous point's; more points than the core's 64.
+pub fn check_points(points: &[volsample::ControlPoint]) -> Result<(), String> {
+    if points.is_empty() {
+        return Err("the transfer function has no points".into());
+    }
+    for (k, p) in points.iter().enumerate() {
+        let n = k + 1;
+        if !p.s.is_finite() {
+            return Err(format!("point {n}: the scalar value {} is not finite", p.s));
+        }
+        for (name, v) in ["red", "green", "blue", "opacity"]
+            .into_iter()
+            .zip(p.c.iter().chain([&p.a]))
+        {
+            if !(0.0..=1.0).contains(v) {
+                return Err(format!(
+                    "point {n} (s = {}): {name} {v} is outside [0, 1]",
+                    p.s
+                ));
+            }
+        }
+        if let Some(prev) = k.checked_sub(1).and_then(|j| points.get(j)) {
+            if p.s <= prev.s {
+                return Err(format!(
+                    "point {n} (s = {}) does not follow point {k} (s = {}): the scalar values must increase",
+                    p.s, prev.s
+                ));
+            }
+        }
+    }
+    volsample::TransferFunction::<64>::new(points)
+        .map(|_| ())
+        .map_err(|e| e.to_string())
 }

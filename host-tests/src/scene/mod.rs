@@ -8,6 +8,7 @@
 
 pub mod generate;
 pub mod load;
+pub mod phantom;
 
 use volsample::classify::{classify_isosurface, classify_transfer, Isosurface};
 use volsample::shade::{shade_in_place, Light};

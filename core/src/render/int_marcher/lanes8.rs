@@ -5,6 +5,41 @@ use super::*;
 use crate::fixed_point::{IntLaneMode, IntLaneVisitor};
 use crate::mode::NO_TAUS;
 
+impl<V, M, Fl, const F: u32, S> IntRayMarcher<'_, V, M, Fl, F, S>
+where
+    V: Voxel,
+    M: IntMode<V>,
+    Fl: IntFilter,
+    S: Skipping,
+{
+    /// Where the eight-ray kernel applies ([`eight_ray_packets`](Self::eight_ray_packets)),
+    /// casts the leading multiple of eight rays with it and returns the rest; otherwise
+    /// returns all of them.
+    #[inline(always)]
+    pub(super) fn cast_rays8<'r, 'o>(
+        &self,
+        rays: &'r [Ray],
+        out: &'o mut [IntSample],
+    ) -> (&'r [Ray], &'o mut [IntSample]) {
+        let Some(cpu) = self.isa.avx2_token() else {
+            return (rays, out);
+        };
+        if !self.eight_ray_packets() {
+            return (rays, out);
+        }
+        let packets = Packets {
+            marcher: self,
+            cpu,
+            rays,
+            out,
+        };
+        match Fl::lanes8(self.sampler.mode(), packets) {
+            Ok(rest) => rest,
+            Err(p) => (p.rays, p.out),
+        }
+    }
+}
+
 /// [`IntRayMarcher::cast_rays8`] for the lane kernel of the marcher's mode.
 pub(super) struct Packets<'m, 'v, 'r, 'o, V, M, Fl, const F: u32, S> {
     pub(super) marcher: &'m IntRayMarcher<'v, V, M, Fl, F, S>,
