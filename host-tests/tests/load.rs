@@ -118,7 +118,7 @@ fn transfer_functions() {
         (
             "unsorted.txt",
             b"5 0 0 0 0\n1 0 0 0 0\n",
-            "strictly increasing",
+            "point 2 (s = 1) does not follow point 1 (s = 5)",
         ),
         ("range.txt", b"0 2 0 0 0\n", "outside [0, 1]"),
         ("words.txt", b"zero one two three four\n", "line 1"),
