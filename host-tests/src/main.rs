@@ -33,6 +33,7 @@ enum Preset {
 }
 
 #[derive(Subcommand, Debug)]
+#[allow(clippy::large_enum_variant)] // parsed once; `Render` has many flags
 enum Command {
     /// Render every paper scene with every mode × precision × filter, compare against the
     /// ground truth, and print error and time side by side (the default command).
@@ -52,24 +53,34 @@ enum Command {
     },
     /// Render one scene (or your own volume) with chosen modes side by side into a PNG.
     Render {
-        /// A scene name from `volsample scenes` (ignored with --raw/--nrrd/--nifti).
+        /// A scene name from `volsample scenes` (ignored with --raw/--nrrd/--nifti/--tiff).
         #[arg(long, default_value = "red-32")]
         scene: String,
         /// A raw volume file (needs --dims and --type).
         #[arg(long)]
         raw: Option<PathBuf>,
-        /// A NRRD volume file.
+        /// A NRRD volume file (.nrrd, or a detached .nhdr).
         #[arg(long)]
         nrrd: Option<PathBuf>,
-        /// A NIfTI-1 volume file (.nii or .nii.gz).
+        /// A NIfTI-1 or NIfTI-2 volume file (.nii or .nii.gz).
         #[arg(long)]
         nifti: Option<PathBuf>,
+        /// A multi-page TIFF stack, one grayscale page per slice.
+        #[arg(long)]
+        tiff: Option<PathBuf>,
         /// Dimensions of a raw file, e.g. 64,64,32.
-        #[arg(long, value_delimiter = ',', num_args = 3)]
+        #[arg(long, value_delimiter = ',', num_args = 1..=3)]
         dims: Option<Vec<usize>>,
-        /// Sample type of a raw file: u8, u16, f32.
+        /// Sample type of a raw file: u8, i8, u16, i16, u32, i32, f32, f64.
         #[arg(long = "type", default_value = "u8")]
         ty: String,
+        /// Byte order of a raw file: little or big.
+        #[arg(long, default_value = "little")]
+        endian: String,
+        /// Without --tf: the default ramp over CENTER±WIDTH/2 in data units (e.g. 40,400 for
+        /// CT soft tissue in Hounsfield units) instead of the data's range.
+        #[arg(long, value_name = "CENTER,WIDTH", allow_hyphen_values = true)]
+        window: Option<String>,
         /// Transfer function for a user volume: JSON or text, `s r g b a` per point.
         #[arg(long)]
         tf: Option<PathBuf>,
@@ -143,41 +154,70 @@ fn find_scene(name: &str) -> Result<Scene, String> {
         .ok_or_else(|| format!("unknown scene '{name}' (see `volsample scenes`)"))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn user_scene(
     raw: Option<PathBuf>,
     nrrd: Option<PathBuf>,
     nifti: Option<PathBuf>,
+    tiff: Option<PathBuf>,
     dims: Option<Vec<usize>>,
-    ty: &str,
+    (ty, endian): (&str, &str),
+    window: Option<String>,
     tf: Option<PathBuf>,
 ) -> Result<Option<Scene>, String> {
-    let (dims, data) = match (raw, nrrd, nifti) {
-        (None, None, None) => return Ok(None),
-        (Some(path), None, None) => {
+    if tf.is_some() && window.is_some() {
+        return Err("--window sets the default ramp; give --window or --tf, not both".into());
+    }
+    let cap = load::DEFAULT_MEMORY_CAP;
+    let vol = match (raw, nrrd, nifti, tiff) {
+        (None, None, None, None) => return Ok(None),
+        (Some(path), None, None, None) => {
             let dims: [usize; 3] = dims
                 .ok_or("--raw needs --dims X,Y,Z")?
                 .try_into()
                 .map_err(|_| "--dims needs three values")?;
-            let ty = load::ScalarType::parse(ty)
-                .ok_or_else(|| format!("unknown --type '{ty}' (u8, u16, f32)"))?;
-            (
-                dims,
-                load::load_raw(&path, dims, ty).map_err(|e| e.to_string())?,
+            let ty = load::ScalarType::parse(ty).ok_or_else(|| {
+                format!("unknown --type '{ty}' (u8, i8, u16, i16, u32, i32, f32, f64)")
+            })?;
+            let big = match endian {
+                "little" => false,
+                "big" => true,
+                e => return Err(format!("unknown --endian '{e}' (little, big)")),
+            };
+            load::read_raw(&path, dims, ty, big, None, cap)
+        }
+        (None, Some(path), None, None) => load::read_nrrd(&path, cap),
+        (None, None, Some(path), None) => load::read_nifti(&path, cap),
+        (None, None, None, Some(path)) => load::read_tiff(&path, cap),
+        _ => {
+            return Err(
+                "give one volume file: --raw, --nrrd, --nifti or --tiff, not several".into(),
             )
         }
-        (None, Some(path), None) => load::load_nrrd(&path).map_err(|e| e.to_string())?,
-        (None, None, Some(path)) => load::load_nifti(&path).map_err(|e| e.to_string())?,
-        _ => return Err("give one volume file: --raw, --nrrd or --nifti, not several".into()),
-    };
+    }
+    .map_err(|e| e.to_string())?;
+    let (dims, data) = (vol.dims, vol.data.to_f32());
     let points = match tf {
         Some(p) => load::load_transfer_function(&p).map_err(|e| e.to_string())?,
         None => {
-            // A default ramp over the data's range.
-            let (lo, hi) = data
-                .iter()
-                .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &v| {
-                    (a.min(v), b.max(v))
-                });
+            // A default ramp over the window or the data's range.
+            let (lo, hi) = match window {
+                Some(text) => {
+                    let cw = text
+                        .split_once(',')
+                        .and_then(|(c, w)| Some((c.trim().parse().ok()?, w.trim().parse().ok()?)));
+                    let (c, w) = cw.ok_or_else(|| {
+                        format!("--window '{text}': need CENTER,WIDTH, e.g. 40,400")
+                    })?;
+                    let (lo, hi) = load::window(c, w).map_err(|e| format!("--window: {e}"))?;
+                    (lo as f32, hi as f32)
+                }
+                None => data
+                    .iter()
+                    .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &v| {
+                        (a.min(v), b.max(v))
+                    }),
+            };
             let hi = if hi > lo { hi } else { lo + 1.0 };
             vec![
                 volsample::ControlPoint {
@@ -268,15 +308,19 @@ fn run() -> Result<(), String> {
             raw,
             nrrd,
             nifti,
+            tiff,
             dims,
             ty,
+            endian,
+            window,
             tf,
             modes,
             step,
             size,
             out,
         } => {
-            let mut s = match user_scene(raw, nrrd, nifti, dims, &ty, tf)? {
+            let mut s = match user_scene(raw, nrrd, nifti, tiff, dims, (&ty, &endian), window, tf)?
+            {
                 Some(s) => s,
                 None => find_scene(&scene)?,
             };

@@ -7,6 +7,7 @@
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use serde_json::Value;
 use volsample_host::scene::load::{
@@ -538,5 +539,97 @@ fn windows() {
         (0.0, f64::INFINITY),
     ] {
         assert!(window(c, w).is_err(), "{c}, {w}");
+    }
+}
+
+/// The CLI renders a TIFF stack, an int16 gzip NRRD with a CT window and a big-endian raw
+/// file; it refuses a bad window and two volume files.
+#[test]
+fn cli_formats_and_window() {
+    let bin = env!("CARGO_BIN_EXE_volsample");
+    let out = tmp("cli.png", b"");
+    let render = |args: &[&str]| {
+        Command::new(bin)
+            .args([
+                "render",
+                "--size",
+                "8",
+                "--modes",
+                "opacity-weighted",
+                "--out",
+            ])
+            .arg(&out)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let d = |n: &str| dir().join(n).display().to_string();
+    for args in [
+        vec!["--tiff".to_string(), d("tiff_u16_deflate.tif")],
+        vec![
+            "--nrrd".into(),
+            d("nrrd_i16_gzip.nrrd"),
+            "--window".into(),
+            "-500,1000".into(),
+        ],
+        vec![
+            "--raw".into(),
+            d("raw_i16_be.raw"),
+            "--dims".into(),
+            "5,4,3".into(),
+            "--type".into(),
+            "i16".into(),
+            "--endian".into(),
+            "big".into(),
+        ],
+        vec!["--nifti".into(), d("nifti2_f64.nii.gz")],
+    ] {
+        std::fs::write(&out, b"").unwrap();
+        let o = render(&args.iter().map(String::as_str).collect::<Vec<_>>());
+        assert!(
+            o.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(
+            std::fs::read(&out).unwrap().starts_with(b"\x89PNG"),
+            "{args:?}"
+        );
+    }
+    let tif = d("tiff_u8.tif");
+    let nrrd = d("nrrd_u8_raw.nrrd");
+    for (args, want) in [
+        (
+            vec!["--tiff", &tif, "--window", "40,0"],
+            "--window: window center 40, width 0",
+        ),
+        (
+            vec!["--tiff", &tif, "--window", "40"],
+            "--window '40': need CENTER,WIDTH",
+        ),
+        (
+            vec!["--tiff", &tif, "--window", "40,400", "--tf", &tif],
+            "give --window or --tf, not both",
+        ),
+        (
+            vec!["--tiff", &tif, "--nrrd", &nrrd],
+            "--raw, --nrrd, --nifti or --tiff, not several",
+        ),
+        (
+            vec!["--tiff", &nrrd],
+            "nrrd_u8_raw.nrrd: not a readable TIFF",
+        ),
+        (
+            vec!["--raw", &tif, "--dims", "1,1,1", "--endian", "middle"],
+            "unknown --endian 'middle'",
+        ),
+    ] {
+        let o = render(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?}");
+        assert!(
+            err.contains(want) && !err.contains("panicked"),
+            "{args:?}: {err}"
+        );
     }
 }
