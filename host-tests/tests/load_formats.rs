@@ -439,6 +439,30 @@ fn claims_beyond_the_file_and_bad_streams() {
         e.contains("what.bin") && e.contains("not a NRRD, NIfTI or TIFF"),
         "{e}"
     );
+    // The u8 stack's first page claiming 60000 rows: more than the file holds.
+    let mut tif = std::fs::read(dir().join("tiff_u8.tif")).unwrap();
+    let ifd = u32::from_le_bytes(tif[4..8].try_into().unwrap()) as usize;
+    let entries = u16::from_le_bytes(tif[ifd..ifd + 2].try_into().unwrap()) as usize;
+    let mut patched = false;
+    for k in 0..entries {
+        let e = ifd + 2 + 12 * k;
+        if u16::from_le_bytes([tif[e], tif[e + 1]]) == 257 {
+            // ImageLength, SHORT or LONG: the value sits in the entry's first bytes.
+            tif[e + 8..e + 10].copy_from_slice(&60000u16.to_le_bytes());
+            patched = true;
+        }
+    }
+    assert!(patched);
+    let e = read_tiff(&tmp("tall.tif", &tif), DEFAULT_MEMORY_CAP)
+        .unwrap_err()
+        .to_string();
+    // (The tiff crate itself finds the strips inconsistent with the size before this loader's
+    // own check, page size against file size, would.)
+    assert!(
+        e.contains("tall.tif")
+            && (e.contains("inconsistent sizes") || e.contains("page 1 claims 5×60000")),
+        "{e}"
+    );
     let e = read_tiff(&tmp("not.tif", b"II*\0garbage"), DEFAULT_MEMORY_CAP)
         .unwrap_err()
         .to_string();

@@ -3,7 +3,12 @@
 use std::path::Path;
 
 use ::tiff::decoder::{Decoder, DecodingResult, Limits};
+use ::tiff::tags::Tag;
 use ::tiff::ColorType;
+
+/// The most a compressed page may expand, per byte of the file: LZW codes of 9 bits stand for
+/// at most 4096 bytes (Deflate's limit, 1032, is lower).
+const MAX_EXPANSION: u64 = 4096;
 
 use super::{bad, check_finite, open, LoadError, LoadedVolume, Scalars, Space};
 
@@ -15,10 +20,11 @@ use super::{bad, check_finite, open, LoadError, LoadedVolume, Scalars, Space};
 /// # Errors
 /// Unreadable or malformed TIFF (including strips past the end of the file); a page that is
 /// not grayscale, has another sample type than the first, or another size; 16-bit float or
-/// 64-bit integer samples; more than `cap` bytes of samples in all (checked before each page
-/// is decoded); NaN/∞ floats.
+/// 64-bit integer samples; more than `cap` bytes of samples in all, or an uncompressed page
+/// larger than the file (a compressed one larger than 4096 times the file), both checked
+/// before the page is decoded; NaN/∞ floats.
 pub fn read_tiff(path: &Path, cap: u64) -> Result<LoadedVolume, LoadError> {
-    let (r, _) = open(path)?;
+    let (r, file_len) = open(path)?;
     let tiff_err = |page: usize, e: ::tiff::TiffError| bad(path, format!("page {page}: {e}"));
     let mut limits = Limits::default();
     limits.decoding_buffer_size = usize::try_from(cap).unwrap_or(usize::MAX);
@@ -61,6 +67,26 @@ pub fn read_tiff(path: &Path, cap: u64) -> Result<LoadedVolume, LoadError> {
                 format!(
                     "{page} pages of {w}×{h} {bits}-bit samples need {bytes} bytes or more, \
                      over the memory cap of {cap} bytes"
+                ),
+            ));
+        }
+        // An uncompressed page cannot hold more than the file; a compressed one no more than
+        // MAX_EXPANSION times the file. Checked before the page's buffer is allocated.
+        let compression: u16 = dec
+            .find_tag_unsigned(Tag::Compression)
+            .map_err(|e| tiff_err(page, e))?
+            .unwrap_or(1);
+        let room = if compression == 1 {
+            file_len
+        } else {
+            file_len.saturating_mul(MAX_EXPANSION)
+        };
+        if page_bytes > room {
+            return Err(bad(
+                path,
+                format!(
+                    "page {page} claims {w}×{h} {bits}-bit samples ({page_bytes} bytes), more \
+                     than the {file_len}-byte file can hold"
                 ),
             ));
         }
