@@ -104,7 +104,7 @@ def nifti(name, ty, cls=nib.Nifti1Image, big=False, scale=None, codes=None, affi
     h = img.header
     if codes == "qform":  # qform only
         h.set_sform(None, code=0)
-        h.set_qform(LPSISH, code=1)
+        h.set_qform(affine, code=1)
     elif codes == "both":  # a sheared sform (code 2) and a different qform (code 1)
         h.set_sform(SHEAR, code=2)
         h.set_qform(LPSISH, code=1)
@@ -135,6 +135,8 @@ def nifti(name, ty, cls=nib.Nifti1Image, big=False, scale=None, codes=None, affi
         aff, src = np.diag(list(hb.get_zooms()[:3]) + [1.0]), "pixdim"
     if src != "pixdim":
         assert np.allclose(aff, back.affine)
+    if name == "nifti1_i16_qform_flip.nii":
+        assert hb["pixdim"][0] == -1 and np.allclose(aff, affine)
     write_json(name, "nifti", data, out_ty, aff, src, rel)
 
 
@@ -145,6 +147,10 @@ nifti("nifti1_u16_be.nii", "u16", big=True)
 nifti("nifti1_i32_qform.nii", "i32", codes="qform")
 nifti("nifti1_u32_both.nii", "u32", codes="both")
 nifti("nifti1_f32_pixdim.nii", "f32", codes="none")
+# One flip (a negative determinant): the qform needs qfac = pixdim[0] = -1.
+FLIP = LPSISH.copy()
+FLIP[:3, :3] = np.diag([1, -1, 1]) @ LPSISH[:3, :3]
+nifti("nifti1_i16_qform_flip.nii", "i16", codes="qform", affine=FLIP)
 nifti("nifti1_f64.nii.gz", "f64")
 nifti("nifti2_i16.nii", "i16", cls=nib.Nifti2Image)
 nifti("nifti2_u16_be_qform.nii", "u16", cls=nib.Nifti2Image, big=True, codes="qform")
