@@ -111,24 +111,37 @@ enum Command {
 /// The `render` command's arguments.
 #[derive(clap::Args, Debug)]
 struct RenderArgs {
-    /// A scene name from `volsample scenes` (ignored with --raw/--nrrd/--nifti).
+    /// A scene name from `volsample scenes` (ignored with --raw/--nrrd/--nifti/--tiff).
     #[arg(long, default_value = "red-32")]
     scene: String,
     /// A raw volume file (needs --dims and --type).
     #[arg(long)]
     raw: Option<PathBuf>,
-    /// A NRRD volume file.
+    /// A NRRD volume file (.nrrd, or a detached .nhdr).
     #[arg(long)]
     nrrd: Option<PathBuf>,
-    /// A NIfTI-1 volume file (.nii or .nii.gz).
+    /// A NIfTI-1 or NIfTI-2 volume file (.nii or .nii.gz).
     #[arg(long)]
     nifti: Option<PathBuf>,
+    /// A multi-page TIFF stack, one grayscale page per slice.
+    #[arg(long)]
+    tiff: Option<PathBuf>,
     /// Dimensions of a raw file: `X,Y,Z` or `X Y Z`.
     #[arg(long, num_args = 1..=3, value_delimiter = ',', value_name = "X,Y,Z")]
     dims: Option<Vec<usize>>,
-    /// Sample type of a raw file: u8, u16, f32.
+    /// Sample type of a raw file: u8, i8, u16, i16, u32, i32, f32, f64.
     #[arg(long = "type", default_value = "u8")]
     ty: String,
+    /// Byte order of a raw file: little or big.
+    #[arg(long, default_value = "little")]
+    endian: String,
+    /// Voxel spacing of a raw file in mm, `X,Y,Z` (default 1,1,1).
+    #[arg(long, value_delimiter = ',', value_name = "X,Y,Z")]
+    spacing: Option<Vec<f64>>,
+    /// Without --tf: the default ramp over CENTER±WIDTH/2 in data units (e.g. 40,400 for CT
+    /// soft tissue in Hounsfield units) instead of the data's range.
+    #[arg(long, value_name = "CENTER,WIDTH", allow_hyphen_values = true)]
+    window: Option<String>,
     /// Transfer function for a user volume: JSON or text, `s r g b a` per point (default: a
     /// white ramp from transparent at the data's minimum to opacity 0.6 at its maximum).
     #[arg(long)]
@@ -231,47 +244,77 @@ fn find_scene(name: &str) -> Result<Scene, String> {
         .ok_or_else(|| format!("unknown scene '{name}' (see `volsample scenes`)"))
 }
 
-/// A user's volume: scalars, where they lie in the world, and the transfer function.
+/// A user's volume: its samples in their own type, where they lie in the world, and the
+/// transfer function.
 struct UserVolume {
     name: String,
-    dims: [usize; 3],
-    data: Vec<f32>,
+    volume: load::LoadedVolume,
     affine: view::Affine,
     points: Vec<volsample::ControlPoint>,
 }
 
 fn user_volume(a: &RenderArgs) -> Result<Option<UserVolume>, String> {
-    let (path, dims, data) = match (&a.raw, &a.nrrd, &a.nifti) {
-        (None, None, None) => return Ok(None),
-        (Some(path), None, None) => {
+    if a.tf.is_some() && a.window.is_some() {
+        return Err("--window sets the default ramp; give --window or --tf, not both".into());
+    }
+    let cap = load::DEFAULT_MEMORY_CAP;
+    let (path, vol) = match (&a.raw, &a.nrrd, &a.nifti, &a.tiff) {
+        (None, None, None, None) => return Ok(None),
+        (Some(path), None, None, None) => {
             let dims = three("dims", a.dims.as_deref().ok_or("--raw needs --dims X,Y,Z")?)?;
-            let ty = load::ScalarType::parse(&a.ty)
-                .ok_or_else(|| format!("unknown --type '{}' (u8, u16, f32)", a.ty))?;
-            (
-                path,
-                dims,
-                load::load_raw(path, dims, ty).map_err(|e| e.to_string())?,
+            let ty = load::ScalarType::parse(&a.ty).ok_or_else(|| {
+                format!(
+                    "unknown --type '{}' (u8, i8, u16, i16, u32, i32, f32, f64)",
+                    a.ty
+                )
+            })?;
+            let big = match a.endian.as_str() {
+                "little" => false,
+                "big" => true,
+                e => return Err(format!("unknown --endian '{e}' (little, big)")),
+            };
+            let spacing = match &a.spacing {
+                Some(s) => {
+                    let s = three("spacing", s)?;
+                    if !s.iter().all(|x| x.is_finite() && *x > 0.0) {
+                        return Err(format!("--spacing {s:?}: each value must be positive"));
+                    }
+                    Some(s)
+                }
+                None => None,
+            };
+            (path, load::read_raw(path, dims, ty, big, spacing, cap))
+        }
+        (None, Some(path), None, None) => (path, load::read_nrrd(path, cap)),
+        (None, None, Some(path), None) => (path, load::read_nifti(path, cap)),
+        (None, None, None, Some(path)) => (path, load::read_tiff(path, cap)),
+        _ => {
+            return Err(
+                "give one volume file: --raw, --nrrd, --nifti or --tiff, not several".into(),
             )
         }
-        (None, Some(path), None) => {
-            let (d, v) = load::load_nrrd(path).map_err(|e| e.to_string())?;
-            (path, d, v)
-        }
-        (None, None, Some(path)) => {
-            let (d, v) = load::load_nifti(path).map_err(|e| e.to_string())?;
-            (path, d, v)
-        }
-        _ => return Err("give one volume file: --raw, --nrrd or --nifti, not several".into()),
     };
+    let vol = vol.map_err(|e| e.to_string())?;
+    if a.spacing.is_some() && a.raw.is_none() {
+        return Err("--spacing is for --raw files (the others carry their own)".into());
+    }
     let points = match &a.tf {
         Some(p) => load::load_transfer_function(p).map_err(|e| e.to_string())?,
         None => {
-            // A default ramp over the data's range.
-            let (lo, hi) = data
-                .iter()
-                .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &v| {
-                    (a.min(v), b.max(v))
-                });
+            // A default white ramp over the window or the data's range.
+            let (lo, hi) = match &a.window {
+                Some(text) => {
+                    let cw = text
+                        .split_once(',')
+                        .and_then(|(c, w)| Some((c.trim().parse().ok()?, w.trim().parse().ok()?)));
+                    let (c, w) = cw.ok_or_else(|| {
+                        format!("--window '{text}': need CENTER,WIDTH, e.g. 40,400")
+                    })?;
+                    load::window(c, w).map_err(|e| format!("--window: {e}"))?
+                }
+                None => vol.data.range().unwrap_or((0.0, 1.0)),
+            };
+            let (lo, hi) = (lo as f32, hi as f32);
             let hi = if hi > lo { hi } else { lo + 1.0 };
             vec![
                 volsample::ControlPoint {
@@ -287,15 +330,39 @@ fn user_volume(a: &RenderArgs) -> Result<Option<UserVolume>, String> {
             ]
         }
     };
+    let m = vol.space.affine;
+    let affine = view::Affine {
+        rows: [m[0], m[1], m[2]],
+    };
     Ok(Some(UserVolume {
         name: path
             .file_name()
             .map_or_else(|| "volume".into(), |n| n.to_string_lossy().into_owned()),
-        dims,
-        data,
-        affine: view::Affine::default(),
+        volume: vol,
+        affine,
         points,
     }))
+}
+
+/// Classifies a loaded volume's samples to straight RGBA8, in their own type (8- and 16-bit
+/// samples through a table of every value).
+fn classify_loaded(
+    data: &load::Scalars,
+    points: &[volsample::ControlPoint],
+) -> Result<Vec<volsample::StraightU8>, String> {
+    use view::render::{classify, classify_table, classify_u8};
+    match data {
+        load::Scalars::U8(v) => classify_u8(v, points),
+        load::Scalars::I8(v) => classify_table(v, points, |x| (i32::from(x) + 128) as usize, -128),
+        load::Scalars::U16(v) => classify_table(v, points, usize::from, 0),
+        load::Scalars::I16(v) => {
+            classify_table(v, points, |x| (i32::from(x) + 32768) as usize, -32768)
+        }
+        load::Scalars::U32(v) => classify(v, points, |x| x as f32),
+        load::Scalars::I32(v) => classify(v, points, |x| x as f32),
+        load::Scalars::F32(v) => classify(v, points, |x| x),
+        load::Scalars::F64(v) => classify(v, points, |x| x as f32),
+    }
 }
 
 /// The modes of `--modes`, separated by commas and/or spaces.
@@ -410,17 +477,27 @@ fn render_cmd(a: &RenderArgs) -> Result<(), String> {
     // camera.
     let (name, description, voxels, framed, step, unit, a_stop) = match user_volume(a)? {
         Some(u) => {
-            let straight = view::render::classify(&u.data, &u.points, |v| v)?;
+            let straight = classify_loaded(&u.volume.data, &u.points)?;
+            let dims = u.volume.dims;
             let finest = u.affine.spacing().into_iter().fold(f64::INFINITY, f64::min);
             let framed = camera
                 .unwrap_or_default()
-                .frame_image(&u.affine, u.dims, size)?;
-            let post = wants_post.then_some((u.data, u.points));
+                .frame_image(&u.affine, dims, size)?;
+            // The scalars as f32 only where the post-classified mode needs them.
+            let post = wants_post.then(|| (u.volume.data.to_f32(), u.points));
+            let description = format!(
+                "your volume, {} {}, {:?} from {:?}",
+                dims.map(|n| n.to_string()).join("x"),
+                u.volume.data.scalar_type().name(),
+                u.volume.space.spacing,
+                u.volume.space.source
+            );
+            drop(u.volume);
             (
                 u.name,
-                "your volume".to_string(),
+                description,
                 view::render::Voxels {
-                    dims: u.dims,
+                    dims,
                     straight,
                     post,
                 },

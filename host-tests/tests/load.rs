@@ -72,7 +72,7 @@ fn nrrd_volumes() {
         ("magic.nrrd", &b"P6\n"[..], "not a NRRD"),
         (
             "type.nrrd",
-            b"NRRD0004\ntype: double\ndimension: 3\nsizes: 1 1 1\nencoding: raw\n\n",
+            b"NRRD0004\ntype: int64\ndimension: 3\nsizes: 1 1 1\nencoding: raw\n\n",
             "unsupported type",
         ),
         (
@@ -82,7 +82,7 @@ fn nrrd_volumes() {
         ),
         (
             "gz.nrrd",
-            b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1 1 1\nencoding: gzip\n\n",
+            b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1 1 1\nencoding: zrl\n\n",
             "unsupported encoding",
         ),
         (
@@ -132,7 +132,7 @@ fn transfer_functions() {
 }
 
 // NIfTI-1 files are written here byte by byte from the NIfTI-1 specification (nifti1.h), not
-// with the `nifti` crate the loader uses: a 348-byte header, 4 extension bytes, then the data.
+// with the loader's own header parser: a 348-byte header, 4 extension bytes, then the data.
 
 /// Field offsets in the NIfTI-1 header (nifti1.h, `struct nifti_1_header`).
 const SIZEOF_HDR: usize = 0;
@@ -149,7 +149,7 @@ const MAGIC: usize = 344;
 const DT_UINT8: i16 = 2;
 const DT_INT16: i16 = 4;
 const DT_FLOAT32: i16 = 16;
-const DT_FLOAT64: i16 = 64;
+const DT_RGB24: i16 = 128;
 const DT_UINT16: i16 = 512;
 
 /// A header being written in one byte order.
@@ -372,14 +372,15 @@ fn nifti_errors() {
     nifti2[..4].copy_from_slice(&540i32.to_le_bytes());
     nifti2[4..12].copy_from_slice(b"n+2\0\r\n\x1a\n");
     let cases: Vec<(&str, Vec<u8>, &str)> = vec![
-        ("magic.nii", png, "not a NIfTI-1 file"),
+        ("magic.nii", png, "not a NIfTI-1 or NIfTI-2 file"),
         ("empty.nii", Vec::new(), "too short"),
         (
             "header-cut.nii",
             ok(&Nii::new(&[2, 2, 2], DT_UINT8, 8, false))[..200].to_vec(),
             "200 bytes is too short",
         ),
-        ("nifti2.nii", nifti2, "NIfTI-2"),
+        // A NIfTI-2 header of zeros: read as NIfTI-2, refused for its datatype 0.
+        ("nifti2.nii", nifti2, "unknown datatype code 0"),
         (
             "hdr.nii",
             with(&|h| h.bytes[MAGIC..MAGIC + 4].copy_from_slice(b"ni1\0")),
@@ -393,9 +394,9 @@ fn nifti_errors() {
             "sizeof_hdr is 352",
         ),
         (
-            "f64.nii",
-            ok(&Nii::new(&[2, 2, 2], DT_FLOAT64, 64, false)),
-            "unsupported datatype Float64 (code 64)",
+            "rgb.nii",
+            ok(&Nii::new(&[2, 2, 2], DT_RGB24, 24, false)),
+            "unsupported datatype RGB24 (colour, not scalar samples) (code 128)",
         ),
         (
             "code.nii",
@@ -534,7 +535,7 @@ fn nifti_cli() {
     for (args, want) in [
         (
             vec!["--nifti".into(), nii.clone(), "--nrrd".into(), nrrd],
-            "--raw, --nrrd or --nifti, not several",
+            "--raw, --nrrd, --nifti or --tiff, not several",
         ),
         (vec!["--nifti".into(), bad], "cli-bad.nii: need a 3D volume"),
     ] {

@@ -1,46 +1,287 @@
-//! Loading a user's volume (raw, NRRD or NIfTI-1) and transfer function (JSON or text).
+//! Loading a user's volume (raw, NRRD, NIfTI-1/-2 or a multi-page TIFF stack) and transfer
+//! function (JSON or text).
 //!
-//! Every failure is a [`LoadError`] that names the file and the problem; nothing panics on
-//! bad input.
+//! The `read_*` functions return a [`LoadedVolume`]: the dimensions, the samples in the file's
+//! own type ([`Scalars`]: a `u8` volume takes one byte per voxel) and the index-to-world
+//! [`Space`] in **RAS+** millimetres, the convention of NIfTI and nibabel (`+x` right, `+y`
+//! anterior, `+z` superior); NRRD's LPS and LAS spaces are converted to it. The older `load_*`
+//! functions return the same samples as `f32`.
+//!
+//! Safety: nothing panics on bad input. Every failure is a [`LoadError`] that names the file
+//! and the problem. A header whose data would need more than the memory cap (a parameter,
+//! [`DEFAULT_MEMORY_CAP`] by default) is refused before anything is allocated; a plain file
+//! shorter than its header claims is refused before its data are read; compressed data are
+//! read only up to the size the header claims plus one byte (so a decompression bomb cannot
+//! allocate more than the claimed size), and memory for them grows with what actually arrives.
+//! Floating-point data with NaN or infinite values are refused.
 
 use std::fmt;
-use std::io::Read;
+use std::io::{self, BufRead, Read};
 use std::path::{Path, PathBuf};
 
 use volsample::ControlPoint;
 
-/// Scalar sample types a raw, NRRD or NIfTI file may hold.
+mod nifti;
+mod nrrd;
+mod tiff;
+
+pub use self::nifti::read_nifti;
+pub use self::nrrd::read_nrrd;
+pub use self::tiff::read_tiff;
+
+/// The memory cap of the CLI and of the `load_*` functions: 8 GiB of samples in their own type.
+pub const DEFAULT_MEMORY_CAP: u64 = 8 << 30;
+
+/// Scalar sample types a raw, NRRD, NIfTI or TIFF file may hold.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ScalarType {
     /// Unsigned 8-bit.
     U8,
+    /// Signed 8-bit.
+    I8,
     /// Unsigned 16-bit.
     U16,
-    /// Signed 16-bit (NIfTI `int16` only so far; [`ScalarType::parse`] does not name it).
+    /// Signed 16-bit (CT data in Hounsfield units).
     I16,
+    /// Unsigned 32-bit.
+    U32,
+    /// Signed 32-bit.
+    I32,
     /// IEEE 32-bit float.
     F32,
+    /// IEEE 64-bit float.
+    F64,
 }
 
 impl ScalarType {
     /// Bytes per value.
     pub fn size(self) -> usize {
         match self {
-            ScalarType::U8 => 1,
+            ScalarType::U8 | ScalarType::I8 => 1,
             ScalarType::U16 | ScalarType::I16 => 2,
-            ScalarType::F32 => 4,
+            ScalarType::U32 | ScalarType::I32 | ScalarType::F32 => 4,
+            ScalarType::F64 => 8,
         }
     }
 
-    /// Parses `u8`/`uint8`/`uchar`, `u16`/`uint16`/`ushort`, `f32`/`float`.
-    pub fn parse(s: &str) -> Option<Self> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "u8" | "uint8" | "uchar" | "unsigned char" | "uint8_t" => Some(ScalarType::U8),
-            "u16" | "uint16" | "ushort" | "unsigned short" | "uint16_t" => Some(ScalarType::U16),
-            "f32" | "float" | "float32" => Some(ScalarType::F32),
-            _ => None,
+    /// Short name: `u8`, `i8`, `u16`, `i16`, `u32`, `i32`, `f32`, `f64`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ScalarType::U8 => "u8",
+            ScalarType::I8 => "i8",
+            ScalarType::U16 => "u16",
+            ScalarType::I16 => "i16",
+            ScalarType::U32 => "u32",
+            ScalarType::I32 => "i32",
+            ScalarType::F32 => "f32",
+            ScalarType::F64 => "f64",
         }
     }
+
+    /// Parses the short names (`u8` … `f64`), numpy's (`uint8`, `int16`, `float32`, …) and
+    /// every NRRD spelling (`uchar`, `signed char`, `short`, `unsigned short int`, `int`,
+    /// `uint`, `float`, `double`, `int16_t`, …), case-insensitively. 64-bit integers and
+    /// NRRD's `block` are not scalar types here (`None`).
+    pub fn parse(s: &str) -> Option<Self> {
+        let s = s.trim().to_ascii_lowercase();
+        let s = s.split_whitespace().collect::<Vec<_>>().join(" ");
+        Some(match s.as_str() {
+            "u8" | "uint8" | "uchar" | "unsigned char" | "uint8_t" => ScalarType::U8,
+            "i8" | "int8" | "signed char" | "int8_t" => ScalarType::I8,
+            "u16" | "uint16" | "ushort" | "unsigned short" | "unsigned short int" | "uint16_t" => {
+                ScalarType::U16
+            }
+            "i16" | "int16" | "short" | "short int" | "signed short" | "signed short int"
+            | "int16_t" => ScalarType::I16,
+            "u32" | "uint32" | "uint" | "unsigned int" | "uint32_t" => ScalarType::U32,
+            "i32" | "int32" | "int" | "signed int" | "int32_t" => ScalarType::I32,
+            "f32" | "float" | "float32" => ScalarType::F32,
+            "f64" | "double" | "float64" => ScalarType::F64,
+            _ => return None,
+        })
+    }
+}
+
+/// A volume's samples in the file's own type, `x` fastest, then `y`, then `z`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Scalars {
+    /// Unsigned 8-bit samples.
+    U8(Vec<u8>),
+    /// Signed 8-bit samples.
+    I8(Vec<i8>),
+    /// Unsigned 16-bit samples.
+    U16(Vec<u16>),
+    /// Signed 16-bit samples.
+    I16(Vec<i16>),
+    /// Unsigned 32-bit samples.
+    U32(Vec<u32>),
+    /// Signed 32-bit samples.
+    I32(Vec<i32>),
+    /// 32-bit float samples (all finite).
+    F32(Vec<f32>),
+    /// 64-bit float samples (all finite).
+    F64(Vec<f64>),
+}
+
+/// Applies `$body` to the vector inside any [`Scalars`] variant.
+macro_rules! each {
+    ($s:expr, $v:ident => $body:expr) => {
+        match $s {
+            Scalars::U8($v) => $body,
+            Scalars::I8($v) => $body,
+            Scalars::U16($v) => $body,
+            Scalars::I16($v) => $body,
+            Scalars::U32($v) => $body,
+            Scalars::I32($v) => $body,
+            Scalars::F32($v) => $body,
+            Scalars::F64($v) => $body,
+        }
+    };
+}
+
+impl Scalars {
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        each!(self, v => v.len())
+    }
+
+    /// Whether there are no samples.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The sample type.
+    pub fn scalar_type(&self) -> ScalarType {
+        match self {
+            Scalars::U8(_) => ScalarType::U8,
+            Scalars::I8(_) => ScalarType::I8,
+            Scalars::U16(_) => ScalarType::U16,
+            Scalars::I16(_) => ScalarType::I16,
+            Scalars::U32(_) => ScalarType::U32,
+            Scalars::I32(_) => ScalarType::I32,
+            Scalars::F32(_) => ScalarType::F32,
+            Scalars::F64(_) => ScalarType::F64,
+        }
+    }
+
+    /// Sample `i` as `f64` (exact for every type), or `None` past the end.
+    #[allow(clippy::useless_conversion)] // `f64::from` of the `F64` variant
+    pub fn get(&self, i: usize) -> Option<f64> {
+        each!(self, v => v.get(i).map(|&x| f64::from(x)))
+    }
+
+    /// Every sample as `f32` (rounded to nearest for 32-bit integers and `f64`).
+    #[allow(clippy::useless_conversion)] // `f64::from` of the `F64` variant
+    pub fn to_f32(&self) -> Vec<f32> {
+        match self {
+            Scalars::F32(v) => v.clone(),
+            _ => each!(self, v => v.iter().map(|&x| f64::from(x) as f32).collect()),
+        }
+    }
+
+    /// The smallest and largest sample, or `None` when there are none.
+    #[allow(clippy::useless_conversion)] // `f64::from` of the `F64` variant
+    pub fn range(&self) -> Option<(f64, f64)> {
+        each!(self, v => v.iter().map(|&x| f64::from(x)).fold(None, |r, x| {
+            Some(match r {
+                None => (x, x),
+                Some((lo, hi)) => (x.min(lo), x.max(hi)),
+            })
+        }))
+    }
+
+    /// Bytes the samples take in memory.
+    pub fn byte_len(&self) -> usize {
+        self.len() * self.scalar_type().size()
+    }
+}
+
+/// Where a [`Space`] came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpaceSource {
+    /// Nothing in the file: the identity (1 mm voxels at the origin; raw files, TIFF stacks).
+    Identity,
+    /// Voxel spacing given by the caller (raw files), origin at zero.
+    Given,
+    /// NIfTI `srow_x/y/z` (used whenever `sform_code > 0`), with that code.
+    NiftiSform(i32),
+    /// NIfTI quaternion, `qoffset_*` and `pixdim` (used when `sform_code` is 0 and
+    /// `qform_code > 0`), with that code.
+    NiftiQform(i32),
+    /// NIfTI `pixdim[1..=3]` alone (both codes 0: the specification's "method 1", a diagonal
+    /// scaling with origin zero; nibabel's `img.affine` centres and flips such files instead).
+    NiftiPixdim,
+    /// NRRD `space directions` and `space origin`, converted to RAS.
+    NrrdSpaceDirections,
+    /// NRRD `spacings` alone (diagonal, origin zero).
+    NrrdSpacings,
+}
+
+/// The index-to-world mapping of a volume in RAS+ millimetres.
+///
+/// `affine` is row-major: world `[x, y, z, 1]ᵀ = affine · [i, j, k, 1]ᵀ` for voxel index
+/// `(i, j, k)` (`i` the fastest axis). `+x` is right, `+y` anterior, `+z` superior (NIfTI's and
+/// nibabel's convention; a NRRD in `left-posterior-superior` has its first two world rows
+/// negated). `spacing` holds the lengths of the first three columns: the voxel size along each
+/// index axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Space {
+    /// Row-major 4×4 index-to-world (RAS+) matrix; the last row is `[0, 0, 0, 1]`.
+    pub affine: [[f64; 4]; 4],
+    /// Voxel size along each index axis (norms of the affine's first three columns).
+    pub spacing: [f64; 3],
+    /// Which header fields gave the affine.
+    pub source: SpaceSource,
+}
+
+impl Space {
+    /// The identity: 1 mm voxels, index = world.
+    pub fn identity() -> Self {
+        Self::diagonal([1.0; 3], SpaceSource::Identity)
+    }
+
+    /// A diagonal scaling by `spacing` with origin zero.
+    pub fn diagonal(spacing: [f64; 3], source: SpaceSource) -> Self {
+        let mut a = [[0.0; 4]; 4];
+        for k in 0..3 {
+            a[k][k] = spacing[k];
+        }
+        a[3][3] = 1.0;
+        Self::from_affine(a, source)
+    }
+
+    /// The space of `affine` (its last row is taken as `[0, 0, 0, 1]`); the spacing is computed.
+    pub fn from_affine(mut affine: [[f64; 4]; 4], source: SpaceSource) -> Self {
+        affine[3] = [0.0, 0.0, 0.0, 1.0];
+        let spacing = [0, 1, 2].map(|c| {
+            (0..3)
+                .map(|r| affine[r][c] * affine[r][c])
+                .sum::<f64>()
+                .sqrt()
+        });
+        Space {
+            affine,
+            spacing,
+            source,
+        }
+    }
+
+    /// World (RAS+) position of the continuous voxel index `ijk`.
+    pub fn index_to_world(&self, ijk: [f64; 3]) -> [f64; 3] {
+        let a = &self.affine;
+        [0, 1, 2].map(|r| a[r][0] * ijk[0] + a[r][1] * ijk[1] + a[r][2] * ijk[2] + a[r][3])
+    }
+}
+
+/// A loaded volume: dimensions, samples in the file's type, and its place in world space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadedVolume {
+    /// Samples along `x`, `y`, `z` (`x` fastest in `data`).
+    pub dims: [usize; 3],
+    /// The samples, `dims[0] · dims[1] · dims[2]` of them.
+    pub data: Scalars,
+    /// Index-to-world mapping in RAS+.
+    pub space: Space,
 }
 
 /// Why a file could not be loaded.
@@ -67,388 +308,279 @@ fn bad(path: &Path, msg: impl Into<String>) -> LoadError {
     LoadError::Format(path.to_path_buf(), msg.into())
 }
 
-/// Decodes `bytes` as `count` values of `ty`, little- or big-endian, into `f32`.
-fn decode(
+fn io_err(path: &Path) -> impl FnOnce(io::Error) -> LoadError + '_ {
+    move |e| LoadError::Io(path.to_path_buf(), e)
+}
+
+/// The window `[center − width/2, center + width/2]` in data units (e.g. Hounsfield units for
+/// CT: `window(40.0, 400.0)` is the usual soft-tissue window, −160 to 240). The CLI's default
+/// ramp runs from transparent at `lo` to its full opacity at `hi`; values below and above are
+/// clamped to the ends, as a transfer function does. This is the continuous form; DICOM's
+/// integer rule (`center − 0.5`, `width − 1`) differs by under one unit.
+///
+/// # Errors
+/// A non-finite center or a width that is not finite and positive.
+pub fn window(center: f64, width: f64) -> Result<(f64, f64), String> {
+    if !(center.is_finite() && width.is_finite() && width > 0.0) {
+        return Err(format!(
+            "window center {center}, width {width}: need a finite center and a positive width"
+        ));
+    }
+    Ok((center - width / 2.0, center + width / 2.0))
+}
+
+/// Voxel count and byte size of `dims` samples of `ty`, refused past `cap` bytes.
+fn checked_size(
     path: &Path,
-    bytes: &[u8],
+    dims: [usize; 3],
     ty: ScalarType,
-    count: usize,
-    big_endian: bool,
-) -> Result<Vec<f32>, LoadError> {
+    cap: u64,
+) -> Result<(usize, usize), LoadError> {
+    if dims.contains(&0) {
+        return Err(bad(path, "a dimension is zero"));
+    }
+    let count = dims[0]
+        .checked_mul(dims[1])
+        .and_then(|p| p.checked_mul(dims[2]))
+        .ok_or_else(|| bad(path, "dimensions overflow"))?;
     let need = count
         .checked_mul(ty.size())
         .ok_or_else(|| bad(path, "dimensions overflow"))?;
-    if bytes.len() != need {
+    if need as u64 > cap {
         return Err(bad(
             path,
             format!(
-                "holds {} data bytes, but {count} {ty:?} values need {need}",
-                bytes.len()
+                "{}×{}×{} {} samples need {need} bytes, over the memory cap of {cap} bytes",
+                dims[0],
+                dims[1],
+                dims[2],
+                ty.name()
             ),
         ));
     }
-    let out: Vec<f32> = match ty {
-        ScalarType::U8 => bytes.iter().map(|&b| f32::from(b)).collect(),
-        ScalarType::U16 => bytes
-            .chunks_exact(2)
-            .map(|c| {
-                let a = [c[0], c[1]];
-                f32::from(if big_endian {
-                    u16::from_be_bytes(a)
-                } else {
-                    u16::from_le_bytes(a)
-                })
-            })
-            .collect(),
-        ScalarType::I16 => bytes
-            .chunks_exact(2)
-            .map(|c| {
-                let a = [c[0], c[1]];
-                f32::from(if big_endian {
-                    i16::from_be_bytes(a)
-                } else {
-                    i16::from_le_bytes(a)
-                })
-            })
-            .collect(),
-        ScalarType::F32 => bytes
-            .chunks_exact(4)
-            .map(|c| {
-                let a = [c[0], c[1], c[2], c[3]];
-                if big_endian {
-                    f32::from_be_bytes(a)
-                } else {
-                    f32::from_le_bytes(a)
-                }
-            })
-            .collect(),
-    };
-    if let Some(i) = out.iter().position(|v| !v.is_finite()) {
-        return Err(bad(path, format!("value {i} is NaN or infinite")));
+    Ok((count, need))
+}
+
+/// Why reading samples from a stream stopped.
+enum DataError {
+    /// The stream ended after this many bytes.
+    Short(u64),
+    /// The stream holds more than the samples.
+    Long,
+    /// A read failed (for a decompressor: a corrupt stream).
+    Io(io::Error),
+}
+
+/// Reads until `buf` is full or the stream ends; returns the bytes read.
+fn read_full<R: Read + ?Sized>(r: &mut R, buf: &mut [u8]) -> io::Result<usize> {
+    let mut n = 0;
+    while n < buf.len() {
+        match r.read(&mut buf[n..]) {
+            Ok(0) => break,
+            Ok(k) => n += k,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(n)
+}
+
+/// Skips `n` bytes; returns how many there were (fewer at the end of the stream).
+fn skip<R: Read + ?Sized>(r: &mut R, n: u64) -> io::Result<u64> {
+    io::copy(&mut r.take(n), &mut io::sink())
+}
+
+/// Reads `count` values of `N` bytes each, decoded by `conv`, in 64 KiB pieces. `reserve`
+/// allocates all of them at once (for data whose length was checked); otherwise memory grows
+/// with what arrives. With `check_end`, one more byte is read to make sure the stream ends.
+fn read_array<R: Read + ?Sized, T, const N: usize>(
+    r: &mut R,
+    count: usize,
+    reserve: bool,
+    check_end: bool,
+    conv: impl Fn([u8; N]) -> T,
+) -> Result<Vec<T>, DataError> {
+    let mut out = Vec::with_capacity(if reserve { count } else { count.min(1 << 16) });
+    let mut buf = vec![0u8; (1 << 16) / N * N];
+    while out.len() < count {
+        let want = ((count - out.len()) * N).min(buf.len());
+        let got = read_full(r, &mut buf[..want]).map_err(DataError::Io)?;
+        for c in buf[..got - got % N].chunks_exact(N) {
+            let mut a = [0u8; N];
+            a.copy_from_slice(c);
+            out.push(conv(a));
+        }
+        if got < want {
+            return Err(DataError::Short((out.len() * N + got % N) as u64));
+        }
+    }
+    if check_end {
+        let mut one = [0u8; 1];
+        if read_full(r, &mut one).map_err(DataError::Io)? != 0 {
+            return Err(DataError::Long);
+        }
     }
     Ok(out)
 }
 
-/// Loads a headerless little-endian raw volume of `dims` values of `ty`.
-///
-/// # Errors
-/// Unreadable file, a size that does not match `dims × ty`, zero dimensions, NaN/∞ floats.
-pub fn load_raw(path: &Path, dims: [usize; 3], ty: ScalarType) -> Result<Vec<f32>, LoadError> {
-    if dims.contains(&0) {
-        return Err(bad(path, "a dimension is zero"));
-    }
-    let bytes = std::fs::read(path).map_err(|e| LoadError::Io(path.to_path_buf(), e))?;
-    let count = dims[0]
-        .checked_mul(dims[1])
-        .and_then(|p| p.checked_mul(dims[2]))
-        .ok_or_else(|| bad(path, "dimensions overflow"))?;
-    decode(path, &bytes, ty, count, false)
-}
-
-/// Loads a 3D scalar NRRD file (`encoding: raw`, attached or detached data; types u8, u16,
-/// f32). Returns the dimensions and the values.
-///
-/// # Errors
-/// A missing `NRRD` magic, missing or bad `type`/`dimension`/`sizes`/`encoding` fields, an
-/// unsupported encoding (gzip, ascii…), a data size that does not match, NaN/∞ floats.
-pub fn load_nrrd(path: &Path) -> Result<([usize; 3], Vec<f32>), LoadError> {
-    let bytes = std::fs::read(path).map_err(|e| LoadError::Io(path.to_path_buf(), e))?;
-    if !bytes.starts_with(b"NRRD000") {
-        return Err(bad(path, "not a NRRD file (no NRRD000x magic)"));
-    }
-    // The header ends at the first empty line.
-    let mut end = None;
-    let mut i = 0;
-    while i + 1 < bytes.len() {
-        if bytes[i] == b'\n' && bytes[i + 1] == b'\n' {
-            end = Some((i, i + 2));
-            break;
-        }
-        if i + 2 < bytes.len() && &bytes[i..i + 3] == b"\n\r\n" {
-            end = Some((i, i + 3));
-            break;
-        }
-        i += 1;
-    }
-    let (hdr_end, data_start) = end.unwrap_or((bytes.len(), bytes.len()));
-    let header =
-        std::str::from_utf8(&bytes[..hdr_end]).map_err(|_| bad(path, "header is not text"))?;
-    let mut ty = None;
-    let mut dimension = None;
-    let mut sizes = None;
-    let mut encoding = None;
-    let mut big_endian = false;
-    let mut data_file = None;
-    for line in header.lines().skip(1) {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let Some((key, value)) = line.split_once(':') else {
-            continue; // key:=value lines and others carry nothing we need
+/// Reads `count` samples of `ty` in the given byte order (see [`read_array`]).
+fn read_scalars<R: Read + ?Sized>(
+    r: &mut R,
+    ty: ScalarType,
+    count: usize,
+    big: bool,
+    reserve: bool,
+    check_end: bool,
+) -> Result<Scalars, DataError> {
+    macro_rules! num {
+        ($t:ty, $var:ident) => {
+            Scalars::$var(read_array(r, count, reserve, check_end, |a| {
+                if big {
+                    <$t>::from_be_bytes(a)
+                } else {
+                    <$t>::from_le_bytes(a)
+                }
+            })?)
         };
-        let value = value.trim_start_matches('=').trim();
-        match key.trim().to_ascii_lowercase().as_str() {
-            "type" => {
-                ty = Some(ScalarType::parse(value).ok_or_else(|| {
-                    bad(path, format!("unsupported type '{value}' (u8, u16, float)"))
-                })?)
-            }
-            "dimension" => {
-                dimension = Some(
-                    value
-                        .parse::<usize>()
-                        .map_err(|_| bad(path, format!("bad dimension '{value}'")))?,
-                )
-            }
-            "sizes" => {
-                let v: Result<Vec<usize>, _> = value.split_whitespace().map(str::parse).collect();
-                sizes = Some(v.map_err(|_| bad(path, format!("bad sizes '{value}'")))?);
-            }
-            "encoding" => encoding = Some(value.to_ascii_lowercase()),
-            "endian" => big_endian = value.eq_ignore_ascii_case("big"),
-            "data file" | "datafile" => data_file = Some(value.to_string()),
-            _ => {}
-        }
     }
-    let ty = ty.ok_or_else(|| bad(path, "missing 'type' field"))?;
-    if dimension != Some(3) {
-        return Err(bad(
-            path,
-            format!("need a 3D volume, 'dimension' is {dimension:?}"),
-        ));
-    }
-    let sizes = sizes.ok_or_else(|| bad(path, "missing 'sizes' field"))?;
-    let dims: [usize; 3] = sizes
-        .as_slice()
-        .try_into()
-        .map_err(|_| bad(path, format!("'sizes' has {} entries, need 3", sizes.len())))?;
-    if dims.contains(&0) {
-        return Err(bad(path, "a size is zero"));
-    }
-    match encoding.as_deref() {
-        Some("raw") => {}
-        Some(e) => return Err(bad(path, format!("unsupported encoding '{e}' (only raw)"))),
-        None => return Err(bad(path, "missing 'encoding' field")),
-    }
-    let data = match data_file {
-        Some(f) => {
-            let p = path.parent().unwrap_or(Path::new(".")).join(f);
-            std::fs::read(&p).map_err(|e| LoadError::Io(p, e))?
-        }
-        None => bytes[data_start.min(bytes.len())..].to_vec(),
+    Ok(match ty {
+        ScalarType::U8 => Scalars::U8(read_array(r, count, reserve, check_end, |[b]| b)?),
+        ScalarType::I8 => Scalars::I8(read_array(r, count, reserve, check_end, |a| {
+            i8::from_le_bytes(a)
+        })?),
+        ScalarType::U16 => num!(u16, U16),
+        ScalarType::I16 => num!(i16, I16),
+        ScalarType::U32 => num!(u32, U32),
+        ScalarType::I32 => num!(i32, I32),
+        ScalarType::F32 => num!(f32, F32),
+        ScalarType::F64 => num!(f64, F64),
+    })
+}
+
+/// Refuses NaN and infinite floats.
+fn check_finite(path: &Path, data: &Scalars) -> Result<(), LoadError> {
+    let bad_at = match data {
+        Scalars::F32(v) => v.iter().position(|x| !x.is_finite()),
+        Scalars::F64(v) => v.iter().position(|x| !x.is_finite()),
+        _ => None,
     };
-    let count = dims[0]
-        .checked_mul(dims[1])
-        .and_then(|p| p.checked_mul(dims[2]))
-        .ok_or_else(|| bad(path, "sizes overflow"))?;
-    Ok((dims, decode(path, &data, ty, count, big_endian)?))
+    match bad_at {
+        Some(i) => Err(bad(path, format!("value {i} is NaN or infinite"))),
+        None => Ok(()),
+    }
 }
 
-/// Size of a NIfTI-1 header (`sizeof_hdr`); the data of a `.nii` file starts at 352 or later.
-const NIFTI1_HEADER: usize = 348;
-
-/// Shows header bytes such as a magic code readably (`n+1\0`, `\x89PN`).
-fn escaped(bytes: &[u8]) -> String {
-    bytes
-        .iter()
-        .flat_map(|&b| std::ascii::escape_default(b))
-        .map(char::from)
-        .collect()
+/// The message for data of the wrong length: `have` bytes (`None`: more than `need`).
+fn size_message(have: Option<u64>, count: usize, ty: ScalarType, need: usize) -> String {
+    match have {
+        Some(h) => format!("holds {h} data bytes, but {count} {ty:?} values need {need}"),
+        None => format!("holds more than {need} data bytes, but {count} {ty:?} values need {need}"),
+    }
 }
 
-/// Loads a single-file NIfTI-1 volume, `.nii` or gzip-compressed `.nii.gz` (recognised by its
-/// content, not its name). Returns the dimensions `[dim[1], dim[2], dim[3]]` and the values,
-/// `x` fastest as the file stores them.
-///
-/// The header is parsed by the `nifti` crate (either byte order). Supported `datatype`s:
-/// `uint8` (2), `int16` (4), `uint16` (512), `float32` (16). The volume must be 3-D: `dim[0]`
-/// of 3, or more with every `dim[4..]` equal to 1 (a single 3-D volume of a 4-D file). The data
-/// start at `vox_offset`; extensions and padding before it are skipped. When `scl_slope` is
-/// finite and non-zero each value becomes `scl_slope·v + scl_inter`; a `scl_slope` of 0 (the
-/// NIfTI-1 rule), NaN or ∞ (nibabel's rule) means no scaling. Orientation (`qform`/`sform`)
-/// and voxel spacing (`pixdim`) are ignored: the volume is sampled on its index grid.
+/// Opens `path` for buffered reading, with its length.
+fn open(path: &Path) -> Result<(io::BufReader<std::fs::File>, u64), LoadError> {
+    let f = std::fs::File::open(path).map_err(io_err(path))?;
+    let len = f.metadata().map_err(io_err(path))?.len();
+    Ok((io::BufReader::new(f), len))
+}
+
+/// Reads a headerless raw volume: `dims` samples of `ty`, `x` fastest, in the given byte
+/// order; `spacing` (voxel size per axis) gives a diagonal [`Space`], else the identity.
 ///
 /// # Errors
-/// Unreadable file or gzip stream; not a NIfTI-1 `.nii` (no `n+1` magic: a header-only
-/// `.hdr`, NIfTI-2 or another format); a `sizeof_hdr` other than 348; an unsupported or unknown
-/// `datatype`, or a `bitpix` that does not match it; 2-D data or more than one volume; a
-/// non-positive dimension; a bad `vox_offset`; data shorter or longer than the dimensions
-/// need; NaN/∞ values (before or after scaling); a valid `scl_slope` with a NaN/∞ `scl_inter`.
-pub fn load_nifti(path: &Path) -> Result<([usize; 3], Vec<f32>), LoadError> {
-    let file = std::fs::read(path).map_err(|e| LoadError::Io(path.to_path_buf(), e))?;
-    let bytes = if file.starts_with(&[0x1f, 0x8b]) {
-        let mut out = Vec::new();
-        flate2::read::MultiGzDecoder::new(file.as_slice())
-            .read_to_end(&mut out)
-            .map_err(|e| bad(path, format!("bad gzip stream: {e}")))?;
-        out
+/// Unreadable file, zero dimensions, more than `cap` bytes of samples, a file size other than
+/// `dims × ty` (checked before reading), NaN/∞ floats, a non-finite or zero spacing.
+pub fn read_raw(
+    path: &Path,
+    dims: [usize; 3],
+    ty: ScalarType,
+    big_endian: bool,
+    spacing: Option<[f64; 3]>,
+    cap: u64,
+) -> Result<LoadedVolume, LoadError> {
+    let (count, need) = checked_size(path, dims, ty, cap)?;
+    let space = match spacing {
+        None => Space::identity(),
+        Some(s) if s.iter().all(|v| v.is_finite() && *v != 0.0) => {
+            Space::diagonal(s, SpaceSource::Given)
+        }
+        Some(s) => {
+            return Err(bad(
+                path,
+                format!("spacing {s:?}: need finite non-zero values"),
+            ))
+        }
+    };
+    let (mut r, len) = open(path)?;
+    if len != need as u64 {
+        return Err(bad(path, size_message(Some(len), count, ty, need)));
+    }
+    let data = read_scalars(&mut r, ty, count, big_endian, true, true).map_err(|e| match e {
+        DataError::Io(e) => LoadError::Io(path.to_path_buf(), e),
+        DataError::Short(h) => bad(path, size_message(Some(h), count, ty, need)),
+        DataError::Long => bad(path, size_message(None, count, ty, need)),
+    })?;
+    check_finite(path, &data)?;
+    Ok(LoadedVolume { dims, data, space })
+}
+
+/// Reads a NRRD, NIfTI-1/-2 (plain or gzip) or TIFF file, chosen by its first bytes.
+///
+/// # Errors
+/// Those of [`read_nrrd`], [`read_nifti`] and [`read_tiff`]; a file that is none of them.
+pub fn read_volume(path: &Path, cap: u64) -> Result<LoadedVolume, LoadError> {
+    let (mut r, _) = open(path)?;
+    let head = r.fill_buf().map_err(io_err(path))?;
+    let mut magic = [0u8; 348];
+    let n = head.len().min(348);
+    magic[..n].copy_from_slice(&head[..n]);
+    if magic.starts_with(b"NRRD") {
+        read_nrrd(path, cap)
+    } else if magic.starts_with(b"II*\0") || magic.starts_with(b"MM\0*") {
+        read_tiff(path, cap)
+    } else if magic.starts_with(&[0x1f, 0x8b])
+        || &magic[4..8] == b"n+2\0"
+        || &magic[344..348] == b"n+1\0"
+    {
+        read_nifti(path, cap)
     } else {
-        file
-    };
-    if bytes.get(4..8) == Some(b"n+2\0") {
-        return Err(bad(path, "a NIfTI-2 file; only NIfTI-1 is supported"));
-    }
-    if bytes.len() < NIFTI1_HEADER {
-        return Err(bad(
+        Err(bad(
             path,
-            format!(
-                "{} bytes is too short for a NIfTI-1 header ({NIFTI1_HEADER} bytes)",
-                bytes.len()
-            ),
-        ));
+            "not a NRRD, NIfTI or TIFF file (for headerless data give its dims and type)",
+        ))
     }
-    match &bytes[344..348] {
-        b"n+1\0" => {}
-        b"ni1\0" => {
-            return Err(bad(
-                path,
-                "a header-only NIfTI-1 .hdr (magic ni1); give the single-file .nii",
-            ))
-        }
-        m => {
-            return Err(bad(
-                path,
-                format!(
-                    "not a NIfTI-1 file (magic at byte 344 is '{}', need 'n+1\\0')",
-                    escaped(m)
-                ),
-            ))
-        }
-    }
-    // sizeof_hdr = 348 gives the byte order; the crate finds it from dim[0] (1 to 7).
-    let head = [bytes[0], bytes[1], bytes[2], bytes[3]];
-    let big = match (i32::from_le_bytes(head), i32::from_be_bytes(head)) {
-        (348, _) => false,
-        (_, 348) => true,
-        (le, _) => {
-            return Err(bad(
-                path,
-                format!("sizeof_hdr is {le}, need {NIFTI1_HEADER}"),
-            ))
-        }
-    };
-    let header = nifti::NiftiHeader::from_reader(bytes.as_slice())
-        .map_err(|e| bad(path, format!("bad NIfTI-1 header: {e}")))?;
-    if (header.endianness == nifti::Endianness::Big) != big {
-        let d = [bytes[40], bytes[41]];
-        let d = if big {
-            i16::from_be_bytes(d)
-        } else {
-            i16::from_le_bytes(d)
-        };
-        return Err(bad(
-            path,
-            format!("dim[0] (the number of dimensions) is {d}, must be 1 to 7"),
-        ));
-    }
+}
 
-    let code = header.datatype;
-    let ty = match header.data_type() {
-        Ok(nifti::NiftiType::Uint8) => ScalarType::U8,
-        Ok(nifti::NiftiType::Int16) => ScalarType::I16,
-        Ok(nifti::NiftiType::Uint16) => ScalarType::U16,
-        Ok(nifti::NiftiType::Float32) => ScalarType::F32,
-        Ok(t) => {
-            return Err(bad(
-                path,
-                format!(
-                    "unsupported datatype {t:?} (code {code}); \
-                     supported: uint8 (2), int16 (4), uint16 (512), float32 (16)"
-                ),
-            ))
-        }
-        Err(_) => return Err(bad(path, format!("unknown datatype code {code}"))),
-    };
-    let bits = 8 * ty.size();
-    if usize::try_from(header.bitpix) != Ok(bits) {
-        return Err(bad(
-            path,
-            format!(
-                "bitpix is {}, but datatype {ty:?} has {bits} bits",
-                header.bitpix
-            ),
-        ));
-    }
+/// Loads a headerless little-endian raw volume of `dims` values of `ty` as `f32`
+/// ([`read_raw`] with the [`DEFAULT_MEMORY_CAP`]).
+///
+/// # Errors
+/// Those of [`read_raw`].
+pub fn load_raw(path: &Path, dims: [usize; 3], ty: ScalarType) -> Result<Vec<f32>, LoadError> {
+    Ok(read_raw(path, dims, ty, false, None, DEFAULT_MEMORY_CAP)?
+        .data
+        .to_f32())
+}
 
-    // `dim` is `short[8]` in the specification; the crate reads it unsigned.
-    let dim = header.dim.map(|d| d as i16);
-    let rank = dim[0];
-    if !(3..=7).contains(&rank) {
-        return Err(bad(
-            path,
-            format!("need a 3D volume, but dim[0] (the number of dimensions) is {rank}"),
-        ));
-    }
-    let extra = &dim[4..=rank as usize];
-    if extra.iter().any(|&d| d != 1) {
-        return Err(bad(
-            path,
-            format!(
-                "need a single 3D volume, but the data are {rank}-D with dim[4..={rank}] = \
-                 {extra:?}"
-            ),
-        ));
-    }
-    let mut dims = [0usize; 3];
-    for (k, d) in dims.iter_mut().enumerate() {
-        let v = dim[k + 1];
-        *d = usize::try_from(v)
-            .ok()
-            .filter(|&d| d > 0)
-            .ok_or_else(|| bad(path, format!("dim[{}] is {v}, must be positive", k + 1)))?;
-    }
+/// Loads a 3D scalar NRRD file as `f32`: its dimensions and values ([`read_nrrd`] with the
+/// [`DEFAULT_MEMORY_CAP`]).
+///
+/// # Errors
+/// Those of [`read_nrrd`].
+pub fn load_nrrd(path: &Path) -> Result<([usize; 3], Vec<f32>), LoadError> {
+    let v = read_nrrd(path, DEFAULT_MEMORY_CAP)?;
+    Ok((v.dims, v.data.to_f32()))
+}
 
-    let off = header.vox_offset;
-    if !(off.is_finite() && off.fract() == 0.0 && off >= 352.0) {
-        return Err(bad(
-            path,
-            format!("vox_offset is {off}, need a whole number ≥ 352"),
-        ));
-    }
-    let start = off as usize; // saturates: a huge offset is past the end below
-    if start > bytes.len() {
-        return Err(bad(
-            path,
-            format!(
-                "truncated: vox_offset is {start}, but the file holds {} bytes",
-                bytes.len()
-            ),
-        ));
-    }
-    let count = dims[0]
-        .checked_mul(dims[1])
-        .and_then(|p| p.checked_mul(dims[2]))
-        .ok_or_else(|| bad(path, "dimensions overflow"))?;
-    // The data are sliced here rather than read by `nifti::ReaderOptions::read_file`: nifti
-    // 0.18 starts them right after the extensions, not at `vox_offset`, so it misreads a file
-    // with padding before the data (tested in tests/load.rs, `nifti_dims_and_order`).
-    let mut values = decode(path, &bytes[start..], ty, count, big)?;
-
-    let (slope, inter) = (header.scl_slope, header.scl_inter);
-    if slope.is_finite() && slope != 0.0 {
-        if !inter.is_finite() {
-            return Err(bad(
-                path,
-                format!("scl_slope is {slope} but scl_inter is {inter}"),
-            ));
-        }
-        if (slope, inter) != (1.0, 0.0) {
-            for v in &mut values {
-                *v = (f64::from(slope) * f64::from(*v) + f64::from(inter)) as f32;
-            }
-            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-                return Err(bad(
-                    path,
-                    format!(
-                        "value {i} is infinite after scaling by scl_slope {slope}, \
-                         scl_inter {inter}"
-                    ),
-                ));
-            }
-        }
-    }
-    Ok((dims, values))
+/// Loads a NIfTI-1 or NIfTI-2 volume (`.nii` or `.nii.gz`) as `f32`: its dimensions and
+/// (scaled) values ([`read_nifti`] with the [`DEFAULT_MEMORY_CAP`]).
+///
+/// # Errors
+/// Those of [`read_nifti`].
+pub fn load_nifti(path: &Path) -> Result<([usize; 3], Vec<f32>), LoadError> {
+    let v = read_nifti(path, DEFAULT_MEMORY_CAP)?;
+    Ok((v.dims, v.data.to_f32()))
 }
 
 /// Loads a transfer function: JSON `{"points": [[s, r, g, b, a], ...]}` (or a bare array),
