@@ -328,6 +328,10 @@ fn camera_options_and_threads() {
         "--background",
     );
     fails_with(&["render", "--a-stop", "0", "--out", out], "--a-stop");
+    fails_with(
+        &["render", "--threads", "100000", "--out", out],
+        "at most 1024",
+    );
 }
 
 /// Writes an attached raw NRRD of bytes with the given space and direction lines.

@@ -36,6 +36,9 @@ pub const BAND_ROWS: usize = 4;
 /// Most pixels in one image (2²⁶: 8192 × 8192), so an image buffer is at most 1 GiB.
 pub const MAX_PIXELS: usize = 1 << 26;
 
+/// Most worker threads [`render`] starts.
+pub const MAX_THREADS: usize = 1024;
+
 /// Brick size exponent of the occupancy grid for empty-space skipping (8³-voxel bricks).
 pub const SKIP_BRICK_LOG2: u32 = 3;
 
@@ -145,9 +148,9 @@ pub struct Image {
 /// Renders `voxels` (placed in the world and seen as `framed` says) with `method`.
 ///
 /// # Errors
-/// As text: an image over [`MAX_PIXELS`], a method the voxels do not offer (post-classified
-/// without scalars, integer kernels of other modes and filters), bad settings as the core
-/// reports them.
+/// As text: an image over [`MAX_PIXELS`], more than [`MAX_THREADS`] threads, a method the
+/// voxels do not offer (post-classified without scalars, integer kernels of other modes and
+/// filters), bad settings as the core reports them.
 pub fn render(
     voxels: &Voxels,
     framed: &Framed,
@@ -162,6 +165,12 @@ pub fn render(
                 "image {w} x {h} must have between 1 and {MAX_PIXELS} pixels"
             ))
         }
+    }
+    if settings.threads > MAX_THREADS {
+        return Err(format!(
+            "{} threads: at most {MAX_THREADS} (0: one per core)",
+            settings.threads
+        ));
     }
     if !(settings.step_mm.is_finite() && settings.step_mm > 0.0) {
         return Err(format!("step must be positive, not {}", settings.step_mm));
