@@ -285,10 +285,10 @@ impl View {
         // posterior (looking straight down or up with the default superior up).
         let right = [up0, [0.0, 1.0, 0.0], [0.0, -1.0, 0.0]]
             .into_iter()
-            .filter_map(|u| {
-                normalized(cross(dir, u)).filter(|r| norm(cross(dir, u)) > 1e-6 && r[0].is_finite())
+            .find_map(|u| {
+                let r = cross(dir, u);
+                (norm(r) > 1e-6).then(|| normalized(r)).flatten()
             })
-            .next()
             .ok_or("the up vector is parallel to the view direction")?;
         let up = cross(right, dir);
         // The box corners in world space.

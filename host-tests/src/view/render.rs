@@ -7,7 +7,7 @@
 //! core's `cast` of its ray whatever the band, so the image is bit-identical for any number
 //! of threads (`tests/view.rs`).
 //!
-//! Storage: [`Voxels::Straight`] holds 4 bytes per voxel; with the scalars of an 8-bit file
+//! Storage: [`Voxels::straight`] holds 4 bytes per voxel; with the scalars of an 8-bit file
 //! (1 byte) kept for the post-classified mode, 5. Opacity-based modes read the bytes as they
 //! are; `extinction` reads them through a 256-entry `τ` table ([`ExtinctionWeightedU8`]),
 //! bit-identical to converting them to `(τ, C^τ)` first, without the 16 bytes per voxel.
