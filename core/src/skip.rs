@@ -33,10 +33,13 @@
 //! # Ok::<(), volsample::Error>(())
 //! ```
 
+use core::ops::Range;
+
 use crate::error::Error;
 use crate::mode::{
     sealed, ExtinctionWeighted, ExtinctionWeightedU8, OpacityWeighted, Preweighted, Separate,
 };
+use crate::ray::Ray;
 use crate::volume::Volume;
 use crate::voxel::{AssociatedVoxel, ExtinctionVoxel, StraightU8, StraightVoxel, Voxel};
 
@@ -98,6 +101,16 @@ pub trait Skipping: sealed::Sealed + Copy + core::fmt::Debug {
     /// Whether the sample at `pos` reads only empty voxels.
     fn empty(&self, pos: [f32; 3]) -> bool;
 
+    /// The samples `j` of a ray's samples `t_first + j·d`, `j < n` (`samples` is
+    /// `(t_first, n)`), outside which every sample is [`empty`](Self::empty): `0..n` for
+    /// [`NoSkip`], [`Occupancy::occupied_samples`] for a grid.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn occupied(&self, ray: &Ray, samples: (f32, u32), d: f32) -> Range<u32> {
+        let _ = (ray, d);
+        0..samples.1
+    }
+
     /// `false` for [`NoSkip`], whose [`empty`](Self::empty) is always `false`.
     #[doc(hidden)]
     const SKIPS: bool = true;
@@ -124,6 +137,11 @@ impl Skipping for Occupancy<'_> {
     #[inline(always)]
     fn empty(&self, pos: [f32; 3]) -> bool {
         self.is_empty_at(pos)
+    }
+
+    #[inline(always)]
+    fn occupied(&self, ray: &Ray, samples: (f32, u32), d: f32) -> Range<u32> {
+        self.occupied_samples(ray, samples, d)
     }
 }
 
@@ -245,15 +263,137 @@ impl<'g> Occupancy<'g> {
     /// this crate. NaN coordinates read as 0, as the filters' clamps do.
     #[inline(always)]
     pub fn is_empty_at(&self, pos: [f32; 3]) -> bool {
+        self.brick_empty(self.brick_of(pos))
+    }
+
+    /// The brick a sample at `pos` floors into, per axis, after clamping into the grid.
+    #[inline(always)]
+    fn brick_of(&self, [x, y, z]: [f32; 3]) -> [usize; 3] {
         let [nx, ny, nz] = self.dims;
-        let [bx, by, _] = self.bricks;
         // `as usize` truncates toward zero and saturates (negatives and NaN to 0): for
         // `x ≥ 0` it is `⌊x⌋`, and for `x < 0` the clamped floor is 0 either way.
-        let [x, y, z] = pos;
         let cell = |x: f32, n: usize| (x as usize).min(n - 1) >> self.log2;
-        let k = cell(x, nx) + bx * (cell(y, ny) + by * cell(z, nz));
+        [cell(x, nx), cell(y, ny), cell(z, nz)]
+    }
+
+    /// Whether brick `[cx, cy, cz]` is empty.
+    #[inline(always)]
+    fn brick_empty(&self, [cx, cy, cz]: [usize; 3]) -> bool {
+        let [bx, by, _] = self.bricks;
         // Out of range cannot happen for a grid built over these dims; reading it as
         // occupied keeps the marcher exact if it ever did.
-        matches!(self.flags.get(k), Some(0))
+        matches!(self.flags.get(cx + bx * (cy + by * cz)), Some(0))
+    }
+
+    /// The samples `lo..hi` of a ray outside which every sample is empty
+    /// ([`is_empty_at`](Self::is_empty_at)): the ray's samples are at `ray.at(t_first + j·d)`
+    /// for `j < n`, with `samples = (t_first, n)`, the positions a marcher computes; `lo` is
+    /// the first sample in an occupied brick and `hi − 1` the last (`n..n` if there is none).
+    /// A marcher that starts at `lo` and stops after `hi − 1` composites exactly what it
+    /// would have composited from 0 to `n`: the samples it leaves out are transparent.
+    ///
+    /// It walks brick by brick, from each end: where the ray leaves an empty brick is
+    /// estimated in `f32`, and the jump is taken only once the sample it lands on is found in
+    /// the same brick. That suffices: every operation of `t_first + j·d` and of
+    /// [`Ray::at`](crate::Ray::at) is monotone in `j` (rounding included), and so is the
+    /// brick along each axis, so two samples in one brick have only samples of that brick
+    /// between them. A jump that fails is halved, down to one sample.
+    ///
+    /// ```
+    /// use volsample::skip::Occupancy;
+    /// use volsample::{OpacityWeighted, Ray, StraightU8, Volume};
+    /// // 32³ of air with one opaque voxel at (4, 4, 20).
+    /// let mut voxels = [StraightU8([0; 4]); 32 * 32 * 32];
+    /// voxels[4 + 32 * (4 + 32 * 20)] = StraightU8([255; 4]);
+    /// let vol = Volume::new(&voxels, [32; 3])?;
+    /// let mut grid = [0u8; Occupancy::buffer_len([32; 3], 3)];
+    /// let occ = Occupancy::build(&vol, &OpacityWeighted, 3, &mut grid)?;
+    /// let ray = Ray::new([4.0, 4.0, -1.0], [0.0, 0.0, 1.0])?;
+    /// // Samples at z = 0.5 j: the brick z ∈ [16, 24) is the only occupied one.
+    /// let (t_first, n) = (1.0, 64);
+    /// let r = occ.occupied_samples(&ray, (t_first, n), 0.5);
+    /// assert_eq!(r, 32..48);
+    /// # Ok::<(), volsample::Error>(())
+    /// ```
+    pub fn occupied_samples(&self, ray: &Ray, (t_first, n): (f32, u32), d: f32) -> Range<u32> {
+        let t = |j: u32| t_first + j as f32 * d;
+        let walk = Walk {
+            grid: self,
+            ray,
+            t: &t,
+            d,
+        };
+        let mut lo = 0;
+        while lo < n {
+            let b = self.brick_of(ray.at(t(lo)));
+            if !self.brick_empty(b) {
+                break;
+            }
+            lo += 1 + walk.run(b, lo, n - 1 - lo, true);
+        }
+        let mut hi = n;
+        while hi > lo {
+            let j = hi - 1;
+            let b = self.brick_of(ray.at(t(j)));
+            if !self.brick_empty(b) {
+                break;
+            }
+            hi = j - walk.run(b, j, j - lo, false);
+        }
+        lo..hi
+    }
+}
+
+/// A ray's walk over the bricks of a grid ([`Occupancy::occupied_samples`]).
+struct Walk<'a, 'g, T: Fn(u32) -> f32> {
+    grid: &'a Occupancy<'g>,
+    ray: &'a Ray,
+    /// The distance of sample `j`.
+    t: &'a T,
+    d: f32,
+}
+
+impl<T: Fn(u32) -> f32> Walk<'_, '_, T> {
+    /// How many samples after sample `j` (`forward`) or before it lie in brick `b` too, where
+    /// sample `j` does, at most `room`: estimated from where the ray crosses the brick's next
+    /// face in that direction, then halved until the sample it lands on is in `b` (0 at
+    /// worst: no jump).
+    fn run(&self, b: [usize; 3], j: u32, room: u32, forward: bool) -> u32 {
+        let (o, dir) = (self.ray.origin(), self.ray.dir());
+        let size = (1u64 << self.grid.log2) as f32;
+        let tj = (self.t)(j);
+        let mut steps = f32::INFINITY;
+        for (((&o, &v), &c), &nb) in o.iter().zip(&dir).zip(&b).zip(&self.grid.bricks) {
+            if v == 0.0 {
+                continue;
+            }
+            // The face crossed next: below the brick where the walk goes down the axis, above
+            // it where it goes up; none past the grid's first and last bricks, into which every
+            // position beyond them clamps.
+            let face = if (v > 0.0) == forward {
+                if c + 1 >= nb {
+                    continue;
+                }
+                (c + 1) as f32 * size
+            } else {
+                if c == 0 {
+                    continue;
+                }
+                c as f32 * size
+            };
+            let t_face = (face - o) / v;
+            let s = if forward { t_face - tj } else { tj - t_face } / self.d;
+            steps = steps.min(s);
+        }
+        // One sample short of the estimate, in `0..=room` (NaN to 0).
+        let mut k = (steps - 1.0).max(0.0).min(room as f32) as u32;
+        while k > 0 {
+            let jk = if forward { j + k } else { j - k };
+            if self.grid.brick_of(self.ray.at((self.t)(jk))) == b {
+                return k;
+            }
+            k /= 2;
+        }
+        0
     }
 }

@@ -253,11 +253,37 @@ struct UserVolume {
     points: Vec<volsample::ControlPoint>,
 }
 
+/// The progress bar of a volume load ([`load::show_progress`]), taken down on drop.
+struct LoadBar(indicatif::ProgressBar);
+
+impl LoadBar {
+    fn new() -> Self {
+        let bar = indicatif::ProgressBar::new(0);
+        if let Ok(style) = indicatif::ProgressStyle::with_template(
+            "{msg} [{bar:40}] {bytes}/{total_bytes}, {elapsed}",
+        ) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar.set_message("loading");
+        load::show_progress(Some(bar.clone()));
+        Self(bar)
+    }
+}
+
+impl Drop for LoadBar {
+    fn drop(&mut self) {
+        load::show_progress(None);
+        self.0.finish_and_clear();
+    }
+}
+
 fn user_volume(a: &RenderArgs) -> Result<Option<UserVolume>, String> {
     if a.tf.is_some() && a.window.is_some() {
         return Err("--window sets the default ramp; give --window or --tf, not both".into());
     }
     let cap = load::DEFAULT_MEMORY_CAP;
+    // A bar over the bytes read (drawn only on a terminal), cleared when this returns.
+    let _loading = (!a.quiet).then(LoadBar::new);
     let (path, vol) = match (&a.raw, &a.nrrd, &a.nifti, &a.tiff) {
         (None, None, None, None) => return Ok(None),
         (Some(path), None, None, None) => {

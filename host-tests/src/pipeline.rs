@@ -209,7 +209,9 @@ impl Cam {
             CameraSpec::Perspective(e, t, u, f) => Cam::Persp(Perspective::new(e, t, u, f)?),
         })
     }
+}
 
+impl Camera for Cam {
     #[inline]
     fn ray(&self, i: usize, j: usize, w: usize, h: usize) -> volsample::Ray {
         match self {
@@ -225,37 +227,28 @@ pub trait Frames {
     /// Image width and height.
     fn image(&self) -> [usize; 2];
 
-    /// Renders one frame into `pixels` (row-major, row 0 at the top), returning the number of
-    /// samples taken (early termination included).
+    /// Renders one frame into `pixels` (row-major, row 0 at the top) through the marcher's
+    /// `render_into`: its fastest path (the eight-ray packets where they apply), every pixel
+    /// bit-identical to `cast` of its ray.
     ///
     /// # Errors
     /// [`volsample::Error::ImageSizeMismatch`] unless `pixels` holds `width·height` pixels.
-    fn frame(&self, pixels: &mut [Sample]) -> Result<u64, volsample::Error>;
+    fn frame(&self, pixels: &mut [Sample]) -> Result<(), volsample::Error>;
+
+    /// The number of samples a frame takes, early termination included (each ray cast once
+    /// more, one at a time, to count them: not part of a frame's time).
+    fn samples(&self) -> u64;
 }
 
-/// The pixel loop shared by the float and the integer frames.
-#[inline(always)]
-fn fill(
-    cam: &Cam,
-    [w, h]: [usize; 2],
-    pixels: &mut [Sample],
-    cast: impl Fn(&volsample::Ray) -> (Sample, u32),
-) -> Result<u64, volsample::Error> {
-    if pixels.len() != w * h {
-        return Err(volsample::Error::ImageSizeMismatch {
-            expected: w * h,
-            actual: pixels.len(),
-        });
-    }
+/// The rays of a `w × h` image of `cam`, with `cast`'s sample count summed.
+fn count(cam: &Cam, [w, h]: [usize; 2], cast: impl Fn(&volsample::Ray) -> u32) -> u64 {
     let mut samples = 0u64;
-    for (j, row) in pixels.chunks_exact_mut(w).enumerate() {
-        for (i, px) in row.iter_mut().enumerate() {
-            let (s, n) = cast(&cam.ray(i, j, w, h));
-            *px = s;
-            samples += u64::from(n);
+    for j in 0..h {
+        for i in 0..w {
+            samples += u64::from(cast(&cam.ray(i, j, w, h)));
         }
     }
-    Ok(samples)
+    samples
 }
 
 struct FloatFrames<'v, V, M, F, O> {
@@ -271,9 +264,14 @@ impl<V: Voxel, M: Mode<V>, F: Filter, O: volsample::composite::Order> Frames
         self.image
     }
 
-    fn frame(&self, pixels: &mut [Sample]) -> Result<u64, volsample::Error> {
-        fill(&self.cam, self.image, pixels, |ray| {
-            self.marcher.cast_counted(ray)
+    fn frame(&self, pixels: &mut [Sample]) -> Result<(), volsample::Error> {
+        let [w, h] = self.image;
+        self.marcher.render_into(&self.cam, w, h, pixels)
+    }
+
+    fn samples(&self) -> u64 {
+        count(&self.cam, self.image, |ray| {
+            self.marcher.cast_counted(ray).1
         })
     }
 }
@@ -291,10 +289,19 @@ impl<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter> Frames
         self.image
     }
 
-    fn frame(&self, pixels: &mut [Sample]) -> Result<u64, volsample::Error> {
-        fill(&self.cam, self.image, pixels, |ray| {
-            let (s, n) = self.marcher.cast_counted(ray);
-            (s.to_f32(), n)
+    fn frame(&self, pixels: &mut [Sample]) -> Result<(), volsample::Error> {
+        let [w, h] = self.image;
+        let mut ints = vec![IntSample::TRANSPARENT; pixels.len()];
+        self.marcher.render_into(&self.cam, w, h, &mut ints)?;
+        for (p, s) in pixels.iter_mut().zip(ints) {
+            *p = s.to_f32();
+        }
+        Ok(())
+    }
+
+    fn samples(&self) -> u64 {
+        count(&self.cam, self.image, |ray| {
+            self.marcher.cast_counted(ray).1
         })
     }
 }
@@ -486,8 +493,9 @@ pub fn render(
         let [w, h] = p.image();
         let mut pixels = vec![Sample::TRANSPARENT; w * h];
         let start = Instant::now();
-        let samples = p.frame(&mut pixels)?;
+        p.frame(&mut pixels)?;
         let seconds = start.elapsed().as_secs_f64();
+        let samples = p.samples();
         Ok(Rendered {
             pixels,
             samples,

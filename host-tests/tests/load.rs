@@ -553,3 +553,44 @@ fn nifti_cli() {
         );
     }
 }
+
+/// The load progress bar (`show_progress`) follows the bytes the loaders read: its length is
+/// the file's size and it ends at the end of the file, for a raw file and a gzip NRRD; once
+/// cleared, loads leave the bar alone.
+#[test]
+fn load_progress_follows_the_bytes_read() {
+    use volsample_host::scene::load::{read_nrrd, read_raw, show_progress, DEFAULT_MEMORY_CAP};
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/formats");
+    let raw = tmp(
+        "progress.raw",
+        &(0..=255u8).cycle().take(4096).collect::<Vec<_>>(),
+    );
+    let gz = data.join("nrrd_i16_gzip.nrrd");
+    let cases: [(&PathBuf, &dyn Fn() -> bool); 2] = [
+        (&raw, &|| {
+            read_raw(
+                &raw,
+                [16, 16, 16],
+                ScalarType::U8,
+                false,
+                None,
+                DEFAULT_MEMORY_CAP,
+            )
+            .is_ok()
+        }),
+        (&gz, &|| read_nrrd(&gz, DEFAULT_MEMORY_CAP).is_ok()),
+    ];
+    for (path, load) in cases {
+        let len = std::fs::metadata(path).unwrap().len();
+        let bar = indicatif::ProgressBar::hidden();
+        show_progress(Some(bar.clone()));
+        assert!(load(), "{}", path.display());
+        show_progress(None);
+        assert_eq!(bar.length(), Some(len), "{}", path.display());
+        assert_eq!(bar.position(), len, "{}", path.display());
+        // Cleared: another load moves it no more.
+        bar.set_position(0);
+        assert!(load());
+        assert_eq!(bar.position(), 0);
+    }
+}

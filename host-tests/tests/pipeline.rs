@@ -40,8 +40,8 @@ fn pipeline_frame(s: &Scene, p: &Prepared, m: Method) -> (Vec<Sample>, u64) {
     pipeline::with_pipeline(s, p, m, |f| {
         let [w, h] = f.image();
         let mut px = vec![Sample::TRANSPARENT; w * h];
-        let n = f.frame(&mut px).expect("frame renders");
-        (px, n)
+        f.frame(&mut px).expect("frame renders");
+        (px, f.samples())
     })
     .expect("pipeline builds")
 }

@@ -409,3 +409,315 @@ fn integer_skipping_is_bit_identical() {
     }
     assert!(hits > 100, "{hits}");
 }
+
+/// A hollow shell in `n³` (a skull-like wall a few voxels thick around empty space, in empty
+/// air), with random colors everywhere and random opacities in the wall: rays cross air,
+/// wall, the empty inside, wall and air, so both ends of each ray and its middle are empty.
+fn shell_u8(rng: &mut Rng, n: usize) -> Vec<StraightU8> {
+    let c = (n as f32 - 1.0) * 0.5;
+    let r = n as f32 * 0.35;
+    let mut v = Vec::with_capacity(n * n * n);
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                let d = [x, y, z].map(|k| k as f32 - c);
+                let len = (d[0] * d[0] + d[1] * d[1] * 1.3 + d[2] * d[2] * 0.8).sqrt();
+                let a = if (len - r).abs() < 1.6 {
+                    1 + rng.byte() % 120
+                } else {
+                    0
+                };
+                v.push(StraightU8([rng.byte(), rng.byte(), rng.byte(), a]));
+            }
+        }
+    }
+    v
+}
+
+/// [`Occupancy::occupied_samples`] bounds every sample that is not empty, tightly: every
+/// sample before `lo` or from `hi` on is empty (`is_empty_at` at the position the marcher
+/// computes), and samples `lo` and `hi − 1` are not; for every brick size, steps that are
+/// not powers of two, and rays in every direction, grazing and missing ones included.
+#[test]
+fn occupied_samples_bound_every_sample_that_is_not_empty() {
+    let mut rng = Rng(5);
+    let rays = rays(&mut rng);
+    let mut shell_rng = Rng(6);
+    let shell = shell_u8(&mut shell_rng, 24);
+    let sparse = sparse_u8(&mut rng);
+    let vols = [
+        Volume::new(&sparse, DIMS).unwrap(),
+        Volume::new(&shell, [24; 3]).unwrap(),
+    ];
+    let (mut clipped, mut samples) = (0u64, 0u64);
+    for vol in vols {
+        // Rays aimed at the shell's box too (the `rays` aim at `DIMS`).
+        let mut rays = rays.clone();
+        for k in 0..200 {
+            let f = k as f32 * 0.37;
+            let dir = [f.sin(), (1.7 * f).cos(), 0.3 + (0.5 * f).sin()];
+            let o = [
+                12.0 - 40.0 * dir[0],
+                11.0 - 40.0 * dir[1],
+                12.5 - 40.0 * dir[2],
+            ];
+            rays.push(Ray::new(o, dir).unwrap());
+        }
+        for d in [1.0, 0.5, 0.37, 0.1] {
+            let m = RayMarcher::new(
+                vol,
+                OpacityWeighted,
+                Trilinear::new(),
+                FrontToBack::new(),
+                Step::new(d).unwrap(),
+            )
+            .unwrap();
+            for log2 in 0..=MAX_BRICK_LOG2 {
+                let mut buf = vec![0u8; Occupancy::buffer_len(vol.dims(), log2)];
+                let g = Occupancy::build(&vol, &OpacityWeighted, log2, &mut buf).unwrap();
+                for r in &rays {
+                    let (t_first, n) = m.sample_range(r);
+                    let w = g.occupied_samples(r, (t_first, n), d);
+                    assert!(w.start <= w.end && w.end <= n, "{w:?} of {n}");
+                    let empty = |j: u32| g.is_empty_at(r.at(t_first + j as f32 * d));
+                    for j in 0..n {
+                        if !w.contains(&j) {
+                            assert!(empty(j), "log2 {log2} d {d} sample {j} of {w:?} {r:?}");
+                        }
+                    }
+                    if !w.is_empty() {
+                        assert!(
+                            !empty(w.start) && !empty(w.end - 1),
+                            "{w:?} not tight {r:?}"
+                        );
+                    } else {
+                        assert_eq!(w.start, n);
+                    }
+                    clipped += u64::from(n - w.len() as u32);
+                    samples += u64::from(n);
+                }
+            }
+        }
+    }
+    // The walk does leave samples out (not a vacuous `0..n`): 13 % of them here.
+    assert!(clipped * 10 > samples, "{clipped} of {samples}");
+}
+
+/// With skipping, the eight-ray AVX2 packets (and the eight-sample one-ray kernel) march
+/// only each ray's occupied samples: images (orthographic along an axis and obliquely, and
+/// perspective; widths with and without a remainder of eight), `cast_rays` and
+/// `cast_counted` are bit-identical to the marcher without skipping, in every instruction
+/// set this CPU has, for every mode with a lane kernel and the integer `OpacityWeighted`,
+/// with and without early termination; and the packets are used with skipping (where there
+/// is no opacity correction, which the eight-ray kernel does not compute).
+#[test]
+fn packets_and_images_with_skipping_are_bit_identical() {
+    use volsample::mode::{ExtinctionWeightedU8, TauTable};
+    use volsample::render::IntRayMarcher;
+    use volsample::{Camera, IntStop, Isa, Orthographic, Perspective};
+
+    fn cameras(dims: [usize; 3]) -> (Orthographic, Orthographic, Perspective) {
+        let c = dims.map(|n| (n as f32 - 1.0) * 0.5);
+        let ext = dims.iter().copied().max().unwrap_or(1) as f32 * 1.2;
+        let along_z = Orthographic::looking_down_z(dims).unwrap();
+        let oblique = Orthographic::new(
+            [c[0] - 30.0, c[1] - 20.0, c[2] - 25.0],
+            [30.0, 20.0, 25.0],
+            [0.0, 1.0, 0.0],
+            ext,
+        )
+        .unwrap();
+        let persp = Perspective::new(
+            [c[0] + 9.0, c[1] - 40.0, c[2] + 31.0],
+            c,
+            [0.0, 0.0, 1.0],
+            0.6,
+        )
+        .unwrap();
+        (along_z, oblique, persp)
+    }
+
+    fn image<C: Camera>(
+        render: impl Fn(&C, usize, usize, &mut [Sample]),
+        cam: &C,
+        w: usize,
+        h: usize,
+    ) -> Vec<[u32; 4]> {
+        let mut img = vec![Sample::TRANSPARENT; w * h];
+        render(cam, w, h, &mut img);
+        img.into_iter().map(bits).collect()
+    }
+
+    /// One float configuration: the plain marcher in the baseline instance against the
+    /// skipping one in `isa`. Returns the pixels with `A > 0.5`.
+    fn check_float<V, M>(vol: Volume<'_, V>, mode: M, isa: Isa, rays: &[Ray]) -> usize
+    where
+        V: Voxel,
+        M: Mode<V> + Emptiness<V> + Copy,
+    {
+        let stop = FrontToBack::with_threshold(0.6).unwrap();
+        check_order(vol, mode, FrontToBack::new(), isa, rays)
+            + check_order(vol, mode, stop, isa, rays)
+    }
+
+    fn check_order<V, M, O>(vol: Volume<'_, V>, mode: M, order: O, isa: Isa, rays: &[Ray]) -> usize
+    where
+        V: Voxel,
+        M: Mode<V> + Emptiness<V> + Copy,
+        O: Order + Copy,
+    {
+        let (along_z, oblique, persp) = cameras(vol.dims());
+        let mut hits = 0;
+        for d in [0.5, 0.37] {
+            // The step is the reference distance: no opacity correction, which the eight-ray
+            // kernel does not compute (the tests above cover skipping with correction).
+            let vol = vol.with_reference_distance(d).unwrap();
+            let plain = RayMarcher::new(vol, mode, Trilinear::new(), order, Step::new(d).unwrap())
+                .unwrap()
+                .with_isa(Isa::BASELINE);
+            for log2 in [1, 3] {
+                let mut buf = vec![0u8; Occupancy::buffer_len(vol.dims(), log2)];
+                let fast = plain.with_skipping(&mut buf, log2).unwrap().with_isa(isa);
+                assert_eq!(fast.packet_width(), plain.with_isa(isa).packet_width());
+                let what = format!("{mode:?} {isa:?} d {d} log2 {log2}");
+                for (w, h) in [(32, 16), (21, 13)] {
+                    let p = |c: &Orthographic, w, h, o: &mut [Sample]| {
+                        plain.render_into(c, w, h, o).unwrap()
+                    };
+                    let f = |c: &Orthographic, w, h, o: &mut [Sample]| {
+                        fast.render_into(c, w, h, o).unwrap()
+                    };
+                    for cam in [&along_z, &oblique] {
+                        let a = image(p, cam, w, h);
+                        assert_eq!(a, image(f, cam, w, h), "{what} {cam:?}");
+                        hits += a.iter().filter(|x| f32::from_bits(x[3]) > 0.5).count();
+                    }
+                    let p = |c: &Perspective, w, h, o: &mut [Sample]| {
+                        plain.render_into(c, w, h, o).unwrap()
+                    };
+                    let f = |c: &Perspective, w, h, o: &mut [Sample]| {
+                        fast.render_into(c, w, h, o).unwrap()
+                    };
+                    assert_eq!(
+                        image(p, &persp, w, h),
+                        image(f, &persp, w, h),
+                        "{what} perspective"
+                    );
+                }
+                let mut a = vec![Sample::TRANSPARENT; rays.len()];
+                let mut b = a.clone();
+                plain.cast_rays(rays, &mut a).unwrap();
+                fast.cast_rays(rays, &mut b).unwrap();
+                assert_eq!(
+                    a.into_iter().map(bits).collect::<Vec<_>>(),
+                    b.into_iter().map(bits).collect::<Vec<_>>(),
+                    "{what} cast_rays"
+                );
+                for r in rays {
+                    let (x, nx) = plain.cast_counted(r);
+                    let (y, ny) = fast.cast_counted(r);
+                    assert_eq!((bits(x), nx), (bits(y), ny), "{what} {r:?}");
+                }
+            }
+        }
+        hits
+    }
+
+    let mut rng = Rng(23);
+    let rays = rays(&mut rng);
+    let mut shell_rng = Rng(29);
+    let shell = shell_u8(&mut shell_rng, 40);
+    let sparse = sparse_u8(&mut rng);
+    let table = TauTable::new(1.0).unwrap();
+    let mut hits = 0;
+    for isa in Isa::available() {
+        for (data, dims) in [(&shell, [40; 3]), (&sparse, DIMS)] {
+            let vol = Volume::new(data, dims).unwrap();
+            if isa != Isa::BASELINE {
+                // The skipping marcher does use the eight-ray kernel.
+                let mut buf = vec![0u8; Occupancy::buffer_len(dims, 3)];
+                let m = RayMarcher::new(
+                    vol.with_reference_distance(0.5).unwrap(),
+                    OpacityWeighted,
+                    Trilinear::new(),
+                    FrontToBack::new(),
+                    Step::new(0.5).unwrap(),
+                )
+                .unwrap();
+                assert_eq!(
+                    m.with_skipping(&mut buf, 3)
+                        .unwrap()
+                        .with_isa(isa)
+                        .packet_width(),
+                    8
+                );
+            }
+            hits += check_float(vol, OpacityWeighted, isa, &rays);
+            hits += check_float(vol, Separate, isa, &rays);
+            hits += check_float(vol, ExtinctionWeightedU8::new(&table), isa, &rays);
+            let ext: Vec<ExtinctionF32> = data
+                .iter()
+                .map(|v| {
+                    let [r, g, b, a] = v.0.map(|x| f32::from(x) / 255.0);
+                    ExtinctionF32::from_straight(StraightF32 { c: [r, g, b], a }, 1.0)
+                })
+                .collect();
+            let vol_e = Volume::new(&ext, dims).unwrap();
+            hits += check_float(vol_e, ExtinctionWeighted, isa, &rays);
+
+            // The integer `OpacityWeighted` trilinear march at F = 8.
+            let (along_z, oblique, persp) = cameras(dims);
+            for (d, stop) in [(0.5, IntStop::NEVER), (0.37, IntStop::new(40_000).unwrap())] {
+                let plain = IntRayMarcher::<_, _, _, 8>::new(
+                    vol.with_reference_distance(d).unwrap(),
+                    OpacityWeighted,
+                    Trilinear::new(),
+                    stop,
+                    Step::new(d).unwrap(),
+                )
+                .unwrap()
+                .with_isa(Isa::BASELINE);
+                let mut buf = vec![0u8; Occupancy::buffer_len(dims, 3)];
+                let fast = plain
+                    .clone()
+                    .with_skipping(&mut buf, 3)
+                    .unwrap()
+                    .with_isa(isa);
+                assert_eq!(
+                    fast.packet_width(),
+                    plain.clone().with_isa(isa).packet_width()
+                );
+                for (w, h) in [(32, 16), (21, 13)] {
+                    let mut a = vec![volsample::IntSample::TRANSPARENT; w * h];
+                    let mut b = a.clone();
+                    for k in 0..3 {
+                        match k {
+                            0 => {
+                                plain.render_into(&along_z, w, h, &mut a).unwrap();
+                                fast.render_into(&along_z, w, h, &mut b).unwrap();
+                            }
+                            1 => {
+                                plain.render_into(&oblique, w, h, &mut a).unwrap();
+                                fast.render_into(&oblique, w, h, &mut b).unwrap();
+                            }
+                            _ => {
+                                plain.render_into(&persp, w, h, &mut a).unwrap();
+                                fast.render_into(&persp, w, h, &mut b).unwrap();
+                            }
+                        }
+                        assert_eq!(a, b, "integer {isa:?} d {d} camera {k}");
+                        hits += a.iter().filter(|s| s.a() > 20_000).count();
+                    }
+                }
+                for r in &rays {
+                    assert_eq!(
+                        plain.cast_counted(r),
+                        fast.cast_counted(r),
+                        "integer {isa:?} d {d} {r:?}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(hits > 1000, "{hits}");
+}

@@ -308,6 +308,9 @@ where
         let d = self.step.d();
         let a_stop = self.stop.a_stop();
         let mut acc = IntSample::TRANSPARENT;
+        // Outside these samples every sample is empty (none without skipping): exactly
+        // transparent, so leaving them out changes neither `acc` nor the stop test.
+        let window = self.skip.occupied(ray, (t_first, n), d);
         #[cfg(target_arch = "x86_64")]
         if let (Some(cpu), true) = (self.isa.avx2_token(), self.eight_ray_packets()) {
             // Eight consecutive samples in the AVX2 lanes (the same positions, integer
@@ -316,7 +319,7 @@ where
                 vol: self.sampler.volume(),
                 cpu,
                 ray,
-                range: (t_first, n),
+                samples: crate::arch::avx2::Samples::window((t_first, n), window.clone()),
                 d,
                 a_stop: f32::from(a_stop),
             };
@@ -343,7 +346,8 @@ where
             }
             return (acc, n);
         }
-        for j in 0..n {
+        let end = window.end.min(n);
+        for j in window.start..end {
             if acc.a() >= a_stop {
                 return (acc, j);
             }
@@ -355,6 +359,10 @@ where
             }
             let s = self.sample_with(p, corr);
             acc = front_to_back(acc, s);
+        }
+        // The stop test before the first sample left out, if any.
+        if end < n && acc.a() >= a_stop {
+            return (acc, end);
         }
         (acc, n)
     }
@@ -426,7 +434,7 @@ where
     /// Casts every ray of `rays` into `out`: `out[i]` is [`cast`](Self::cast)`(&rays[i])`,
     /// bit for bit. Where the marcher's [`Isa`] is AVX2 (the default on a CPU that has it)
     /// and the pipeline is `OpacityWeighted` trilinear over
-    /// `StraightU8` at `F = 8` without correction or skipping, eight rays at a time in AVX2
+    /// `StraightU8` at `F = 8` without correction (skipping or not), eight rays at a time in AVX2
     /// lanes (the same integer operations; rays of one direction also share the taps they
     /// read); otherwise, and for the rays beyond the last multiple of eight, one at a time.
     ///
@@ -472,13 +480,12 @@ where
     }
 
     /// Whether the eight-ray AVX2 kernel applies: an AVX2 [`Isa`] and an `OpacityWeighted` trilinear pipeline over straight RGBA8 voxels at `F = 8`
-    /// without correction or skipping, over a volume the kernel can index.
+    /// without correction (skipping or not), over a volume the kernel can index.
     #[inline]
     pub(super) fn eight_ray_packets(&self) -> bool {
         #[cfg(target_arch = "x86_64")]
         {
             F == 8
-                && !S::SKIPS
                 && self.correction.is_none()
                 && self.isa.avx2_token().is_some()
                 && crate::arch::avx2::fits_int(self.sampler.volume())

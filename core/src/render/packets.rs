@@ -4,6 +4,8 @@
 
 use super::*;
 #[cfg(target_arch = "x86_64")]
+use crate::arch::avx2::Samples;
+#[cfg(target_arch = "x86_64")]
 use crate::mode::{LaneMode, LaneVisitor};
 
 impl<'v, V, M, F, O, S> RayMarcher<'v, V, M, F, O, S>
@@ -43,11 +45,16 @@ where
     }
 
     /// Where the eight-lane AVX2 kernel applies ([`eight_ray_packets`](Self::eight_ray_packets)),
-    /// the front-to-back march of `ray` over its samples `range` with eight consecutive
-    /// samples in the lanes (bit-identical to [`march_from`](Self::march_from) from sample 0).
+    /// the front-to-back march of `ray` over the samples `window` of its `range` with eight
+    /// consecutive samples in the lanes (bit-identical to [`march_from`](Self::march_from)).
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    pub(super) fn march_one_avx2(&self, ray: &Ray, range: (f32, u32)) -> Option<(Sample, u32)> {
+    pub(super) fn march_one_avx2(
+        &self,
+        ray: &Ray,
+        range: (f32, u32),
+        window: core::ops::Range<u32>,
+    ) -> Option<(Sample, u32)> {
         let cpu = self.isa.avx2_token()?;
         if !self.eight_ray_packets() {
             return None;
@@ -56,7 +63,7 @@ where
             marcher: self,
             cpu,
             ray,
-            range,
+            samples: Samples::window(range, window),
         };
         F::lanes8(&self.mode, one).ok().flatten()
     }
@@ -65,13 +72,14 @@ where
     /// and mode with a lane kernel over voxels of its format (`Filter::lanes8`:
     /// `Trilinear<WeightedSum>` with `OpacityWeighted`, `Separate` and
     /// `ExtinctionWeightedU8` over `StraightU8`, `ExtinctionWeighted` over `ExtinctionF32`),
-    /// front to back without correction or skipping, over a volume it can index.
+    /// front to back without correction, over a volume it can index. (With skipping, each
+    /// lane marches only the samples between its ray's first and last occupied ones,
+    /// [`Skipping::occupied`].)
     #[inline]
     pub(super) fn eight_ray_packets(&self) -> bool {
         #[cfg(target_arch = "x86_64")]
         {
             O::FRONT_TO_BACK
-                && !S::SKIPS
                 && self.correction.is_none()
                 && self.isa.avx2_token().is_some()
                 && crate::arch::avx2::fits(&self.volume)
@@ -171,7 +179,7 @@ where
             .zip(rays.iter().zip(&ranges))
         {
             if l {
-                (*s, *k) = self.march_from(ray, corr, range, j, *s);
+                (*s, *k) = self.march_from(ray, corr, range, j..range.1, *s);
             }
         }
         (samples, count)
@@ -209,8 +217,8 @@ where
         let (d, taus) = (m.step.d, mode.taus());
         let a_stop = m.order.termination().a_stop_or_inf();
         in_packets(self.rays, self.out, |r| {
-            let ranges = r.each_ref().map(|r| m.samples(r));
-            let acc = march8::<K::Voxel, K>(self.cpu, &vol, r, &ranges, d, a_stop, taus);
+            let samples = Samples::packet(r, |r| m.samples(r), |r, s| m.skip.occupied(r, s, d));
+            let acc = march8::<K::Voxel, K>(self.cpu, &vol, r, &samples, d, a_stop, taus);
             acc.map(|a| over(a, m.background))
         })
     }
@@ -222,7 +230,7 @@ struct OneRay<'m, 'v, 'r, V: Voxel, M, F, O, S> {
     marcher: &'m RayMarcher<'v, V, M, F, O, S>,
     cpu: crate::arch::avx2::Avx2,
     ray: &'r Ray,
-    range: (f32, u32),
+    samples: Samples,
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -245,7 +253,7 @@ where
             self.cpu,
             &vol,
             self.ray,
-            self.range,
+            &self.samples,
             m.step.d,
             a_stop,
             mode.taus(),

@@ -15,9 +15,12 @@
 //! allocate more than the claimed size), and memory for them grows with what actually arrives.
 //! Floating-point data with NaN or infinite values are refused.
 
+use std::cell::RefCell;
 use std::fmt;
-use std::io::{self, BufRead, Read};
+use std::io::{self, BufRead, Read, Seek};
 use std::path::{Path, PathBuf};
+
+use indicatif::ProgressBar;
 
 use volsample::ControlPoint;
 
@@ -478,11 +481,57 @@ fn size_message(have: Option<u64>, count: usize, ty: ScalarType, need: usize) ->
     }
 }
 
-/// Opens `path` for buffered reading, with its length.
-fn open(path: &Path) -> Result<(io::BufReader<std::fs::File>, u64), LoadError> {
-    let f = std::fs::File::open(path).map_err(io_err(path))?;
-    let len = f.metadata().map_err(io_err(path))?.len();
-    Ok((io::BufReader::new(f), len))
+thread_local! {
+    /// The bar of [`show_progress`]: advanced by the bytes the loaders read on this thread.
+    static PROGRESS: RefCell<Option<ProgressBar>> = const { RefCell::new(None) };
+}
+
+/// Sets (`Some`) or clears (`None`) a progress bar that the loaders on this thread advance
+/// by the bytes they read from each file (compressed bytes for compressed data): each file
+/// they open sets its length to the file's size and its position to 0. The CLI shows one
+/// while it loads a volume.
+pub fn show_progress(bar: Option<ProgressBar>) {
+    PROGRESS.with(|p| *p.borrow_mut() = bar);
+}
+
+/// A file whose reads and seeks move the bar of [`show_progress`], if one was set when it
+/// was opened.
+pub(crate) struct Tracked {
+    file: std::fs::File,
+    bar: Option<ProgressBar>,
+}
+
+impl Read for Tracked {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let n = self.file.read(buf)?;
+        if let Some(bar) = &self.bar {
+            bar.inc(n as u64);
+        }
+        Ok(n)
+    }
+}
+
+impl Seek for Tracked {
+    fn seek(&mut self, pos: io::SeekFrom) -> io::Result<u64> {
+        let at = self.file.seek(pos)?;
+        if let Some(bar) = &self.bar {
+            bar.set_position(at);
+        }
+        Ok(at)
+    }
+}
+
+/// Opens `path` for buffered reading, with its length (the progress bar of
+/// [`show_progress`] follows the reads).
+fn open(path: &Path) -> Result<(io::BufReader<Tracked>, u64), LoadError> {
+    let file = std::fs::File::open(path).map_err(io_err(path))?;
+    let len = file.metadata().map_err(io_err(path))?.len();
+    let bar = PROGRESS.with(|p| p.borrow().clone());
+    if let Some(bar) = &bar {
+        bar.set_length(len);
+        bar.set_position(0);
+    }
+    Ok((io::BufReader::new(Tracked { file, bar }), len))
 }
 
 /// Reads a headerless raw volume: `dims` samples of `ty`, `x` fastest, in the given byte

@@ -1,6 +1,9 @@
 //! The fast renderer of the CLI: classified RGBA8 voxels, the library's fastest kernels
-//! (eight-ray AVX2 packets where the CPU has them), early termination, empty-space skipping,
-//! and threads over bands of image rows.
+//! (eight-ray AVX2 packets where the CPU has them and no opacity correction applies, i.e. the
+//! step equals the unit distance or the mode is extinction-based; otherwise four samples of a
+//! ray in lanes), early termination, empty-space skipping (each ray marched only between its
+//! first and last occupied samples, `Occupancy::occupied_samples`), and threads over bands of
+//! image rows.
 //!
 //! The core is single-threaded; [`render`] splits the image into bands of [`BAND_ROWS`] rows
 //! and renders them on a rayon pool with [`RayMarcher::render_rows_into`]. Every pixel is the

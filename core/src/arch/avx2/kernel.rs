@@ -8,9 +8,12 @@ use super::*;
 /// channels kept as faces across axis `A` ([`Cell`]) and the voxels ahead prefetched.
 /// Returns the accumulated `[r, g, b, α]` lanes as bit patterns.
 ///
+/// The lanes march their [`Samples`]: at step `j`, lane `l` is at sample `first + j`, at
+/// `t₀ + (first + j)·d` as the one-ray march computes it, until its `end`.
+///
 /// Where `ONE` ([`march_one`]), the eight lanes are eight consecutive samples of one ray
-/// instead (`rays[0]`, `ranges[0]`; lane `l` of step `j` is sample `8j + l`, at
-/// `t₀ + (8j + l)·d` as the one-ray march computes it), composited in order, one lane after
+/// instead (`rays[0]`, `ranges[0]`; lane `l` of step `j` is sample `first + 8j + l`, at
+/// `t₀ + (first + 8j + l)·d`), composited in order, one lane after
 /// the other, by `composite::front_to_back` until `A ≥ a_stop` after a sample: then lane 0 of
 /// the four arrays holds the accumulated sample and lane 1 of the first the number of samples
 /// composited. (Not inlined: its four instances
@@ -23,11 +26,16 @@ use super::*;
 pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, const ONE: bool>(
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
-    ranges: &[(f32, u32); LANES],
+    samples: &Samples,
     d: f32,
     a_stop: f32,
     taus: &[f32; 256],
 ) -> [[i32; LANES]; 4] {
+    let Samples {
+        ref ranges,
+        first,
+        total,
+    } = *samples;
     let data = vol.data();
     let [nx, ny, nz] = vol.dims().map(|n| n as i32);
     // Per axis: (origin, direction, last voxel index, `n` as `f32`).
@@ -51,9 +59,11 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
         axis(org.map(|o| o[2]), dir.map(|d| d[2]), nz),
     ];
     let t0 = lanes(ranges.map(|r| r.0));
-    let count = ranges.map(|r| r.1);
-    // (With `ONE`, every range is the one ray's.)
-    let [(_, samples), ..] = *ranges;
+    // Per lane, the steps it takes.
+    let count = ranges.map(|r| r.1.saturating_sub(first));
+    // (With `ONE`, every range is the one ray's: its last sample marched, and how many.)
+    let [(_, end), ..] = *ranges;
+    let samples = end.saturating_sub(first);
     let steps = if ONE {
         samples.div_ceil(LANES as u32)
     } else {
@@ -92,8 +102,9 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
         out
     };
     let mut one_ray = |s: [__m256; 4], i: u32| {
+        let k0 = first + i * LANES as u32;
         // SAFETY: as above.
-        let n = unsafe { K::serial(&mut one_acc, K::finish(s, d), i, samples, a_stop) }?;
+        let n = unsafe { K::serial(&mut one_acc, K::finish(s, d), k0, (end, total), a_stop) }?;
         Some(one_result(one_acc, n))
     };
 
@@ -114,14 +125,16 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
     let mut pending = [[zf; 4]; LAG as usize];
     let mut j = 0u32;
     while j < steps && _mm256_movemask_ps(live) != 0 {
-        // The sample position, as `Ray::at(t_first + j·d)` (with `ONE`, of sample `8j + l` in
-        // lane `l`: every index below `2^24`, `MAX_SAMPLES_PER_RAY`, so exact as an `f32`).
+        // The sample position, as `Ray::at(t_first + k·d)` of sample `k = first + j` (with
+        // `ONE`, `first + 8j + l` in lane `l`: every index below `2^24`,
+        // `MAX_SAMPLES_PER_RAY`, so exact as an `f32`).
         let t = if ONE {
             let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-            let jv = _mm256_add_epi32(_mm256_set1_epi32((j * LANES as u32) as i32), lane);
+            let k0 = first + j * LANES as u32;
+            let jv = _mm256_add_epi32(_mm256_set1_epi32(k0 as i32), lane);
             _mm256_add_ps(t0, _mm256_mul_ps(_mm256_cvtepi32_ps(jv), dv))
         } else {
-            _mm256_add_ps(t0, _mm256_mul_ps(_mm256_set1_ps(j as f32), dv))
+            _mm256_add_ps(t0, _mm256_mul_ps(_mm256_set1_ps((first + j) as f32), dv))
         };
         // Per axis: the fraction and the two tap coordinates clamped into the grid
         // (`Kind::split`), and the coordinate `PREFETCH_STEPS` steps ahead (truncated: only a
@@ -238,7 +251,7 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
         }
     }
     if ONE {
-        return one_result(one_acc, samples);
+        return one_result(one_acc, K::ran_out(&one_acc, (end, total), a_stop));
     }
     let [r, g, b, a] = acc;
     let bits = |v: __m256| to_i32s(_mm256_castps_si256(v));

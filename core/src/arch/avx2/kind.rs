@@ -59,17 +59,27 @@ pub(crate) trait Kind {
     /// The lanes whose `acc` has reached `A ≥ a_stop` (`Termination::done`).
     unsafe fn done(acc: &[__m256; 4], a_stop: f32) -> __m256;
 
-    /// With `ONE` ([`march_one`]): the eight samples `s` of step `i` (sample `8i + l` in lane
+    /// With `ONE` ([`march_one`]): the eight samples `s` of a step (sample `k0 + l` in lane
     /// `l`) composited in order onto the one ray's `acc` (`[r, g, b, α]` as bit patterns) as
-    /// the one-ray march does; `Some` of the number of samples composited once the ray's
-    /// `samples` end or it stops at `a_stop`.
+    /// the one-ray march does; `Some` of the number of samples composited once it stops at
+    /// `a_stop`, or once the samples marched end at `end` ([`ran_out`](Self::ran_out) of
+    /// the ray's `total`).
     unsafe fn serial(
         acc: &mut [i32; 4],
         s: [__m256; 4],
-        i: u32,
-        samples: u32,
+        k0: u32,
+        ends: (u32, u32),
         a_stop: f32,
     ) -> Option<u32>;
+
+    /// The count the one-ray march reports where the samples marched end at `end` of the
+    /// ray's `total` (the samples after `end` transparent) with `acc` composited: `total`,
+    /// unless the march stops before a sample (as the integer one does) and `acc` has
+    /// reached `a_stop` with samples left, which the march would have stopped at.
+    fn ran_out(acc: &[i32; 4], (end, total): (u32, u32), a_stop: f32) -> u32 {
+        let _ = (acc, end, a_stop);
+        total
+    }
 }
 
 /// How the kernel reads a tap's channels, for each [`TapRead`] of the float modes.
@@ -282,8 +292,8 @@ impl<M: LaneMode> Kind for M {
     unsafe fn serial(
         acc: &mut [i32; 4],
         [r, g, b, a]: [__m256; 4],
-        i: u32,
-        samples: u32,
+        k0: u32,
+        (end, total): (u32, u32),
         a_stop: f32,
     ) -> Option<u32> {
         let f = |x: i32| f32::from_bits(x as u32);
@@ -295,20 +305,20 @@ impl<M: LaneMode> Kind for M {
         };
         let [r, g, b, a] = map4([r, g, b, a], |v| array(v));
         let lanes = r.into_iter().zip(g).zip(b).zip(a);
-        let mut end = None;
-        for (k, (((r, g), b), a)) in (i * LANES as u32..).zip(lanes) {
-            if k >= samples {
-                end = Some(samples);
+        let mut stop = None;
+        for (k, (((r, g), b), a)) in (k0..).zip(lanes) {
+            if k >= end {
+                stop = Some(total);
                 break;
             }
             s = front_to_back(s, Sample { c: [r, g, b], a });
             if s.a >= a_stop {
-                end = Some(k + 1);
+                stop = Some(k + 1);
                 break;
             }
         }
         *acc = [bits(s.c[0]), bits(s.c[1]), bits(s.c[2]), bits(s.a)];
-        end
+        stop
     }
 }
 
@@ -461,8 +471,8 @@ impl Kind for IntOw {
     unsafe fn serial(
         acc: &mut [i32; 4],
         [r, g, b, a]: [__m256; 4],
-        i: u32,
-        samples: u32,
+        k0: u32,
+        ends: (u32, u32),
         a_stop: f32,
     ) -> Option<u32> {
         // Every lane holds `C ≤ A ≤ ONE` (`IntMode::combine`'s invariant, whose integer
@@ -472,14 +482,13 @@ impl Kind for IntOw {
         let mut s = IntSample::from_valid([narrow(ar), narrow(ag), narrow(ab)], narrow(aa));
         let [r, g, b, a] = map4([r, g, b, a], |v| to_i32s(_mm256_castps_si256(v)));
         let lanes = r.into_iter().zip(g).zip(b).zip(a);
-        let mut end = None;
-        for (k, (((r, g), b), a)) in (i * LANES as u32..).zip(lanes) {
-            if k >= samples {
-                end = Some(samples);
+        let mut stop = None;
+        for (k, (((r, g), b), a)) in (k0..).zip(lanes) {
+            if k >= ends.0 {
                 break;
             }
             if f32::from(s.a()) >= a_stop {
-                end = Some(k);
+                stop = Some(k);
                 break;
             }
             let x = IntSample::from_valid([narrow(r), narrow(g), narrow(b)], narrow(a));
@@ -487,6 +496,18 @@ impl Kind for IntOw {
         }
         let [r, g, b] = s.c().map(i32::from);
         *acc = [r, g, b, i32::from(s.a())];
-        end
+        if stop.is_none() && k0 + LANES as u32 > ends.0 {
+            stop = Some(Self::ran_out(acc, ends, a_stop));
+        }
+        stop
+    }
+
+    /// The march stops before a sample once `A ≥ a_stop`: at `end` if samples are left.
+    fn ran_out(acc: &[i32; 4], (end, total): (u32, u32), a_stop: f32) -> u32 {
+        if end < total && acc[3] as f32 >= a_stop {
+            end
+        } else {
+            total
+        }
     }
 }

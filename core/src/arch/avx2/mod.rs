@@ -87,6 +87,7 @@
 //! packets read and convert every tap at every step.
 
 use core::arch::x86_64::*;
+use core::ops::Range;
 
 use crate::composite::{front_to_back, front_to_back_in};
 use crate::filter::trilinear_weights;
@@ -206,31 +207,81 @@ pub(crate) fn fits<V: Voxel>(vol: &Volume<'_, V>) -> bool {
     vol.data().len() <= i32::MAX as usize
 }
 
-/// Marches eight rays front to back, lane `l` over the samples `t₀ + j·d`, `j < n`, with
-/// `(t₀, n) = ranges[l]`, stopping a lane once its `A ≥ a_stop`: the accumulated samples
-/// before the background, bit-identical to the one-ray march of the kind `K` ([`Kind`]):
-/// the float modes `OpacityWeighted`, `Separate`, `ExtinctionWeightedU8` (with the `τ` of
-/// every opacity byte in `taus`, which the others ignore) and `ExtinctionWeighted`, where `V`
-/// must be the mode's `LaneMode::Voxel` ([`StraightU8`]; for `ExtinctionWeighted`,
-/// [`ExtinctionF32`]: others read as transparent) and `vol` must [`fits`]; or [`IntOw`], the
-/// integer `OpacityWeighted` trilinear march at `F = 8` of `IntRayMarcher::cast`, where `V`
-/// must be [`StraightU8`], `vol` must [`fits_int`] and `a_stop` is the U8.8 stop level:
-/// the positions `Ray::at` computes, each clamped into `[0, n − 1]` per axis and quantized
-/// (**round half up** to 8 fractional bits, `IntPos::quantize`), sampled by [`int_sums`]
-/// (`IntMode::combine`, bit for bit) and composited by `fixed_point::front_to_back` until
-/// `A ≥ a_stop` before a sample.
+/// The samples the kernel marches ([`march8`], [`march_one`]): lane `l` over
+/// `t₀ + j·d` for `first ≤ j < end`, with `(t₀, end) = ranges[l]` (with `ONE`, every lane the
+/// one ray's). `total` is the ray's number of samples, which `march_one` reports where the
+/// ray does not stop early.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Samples {
+    pub(crate) ranges: [(f32, u32); LANES],
+    pub(crate) first: u32,
+    pub(crate) total: u32,
+}
+
+impl Samples {
+    /// One ray's samples `window` of its `(t₀, n)` range.
+    #[inline(always)]
+    pub(crate) fn window((t0, n): (f32, u32), window: Range<u32>) -> Self {
+        Self {
+            ranges: [(t0, window.end.min(n)); LANES],
+            first: window.start,
+            total: n,
+        }
+    }
+
+    /// Eight rays' samples, each ray's `(t₀, n)` by `range` and the part of it holding every
+    /// sample that is not empty by `occupied` (`0..n` without skipping): every lane from
+    /// the first such sample of any lane on, to its own last.
+    #[inline(always)]
+    pub(crate) fn packet(
+        rays: &[Ray; LANES],
+        range: impl Fn(&Ray) -> (f32, u32),
+        occupied: impl Fn(&Ray, (f32, u32)) -> Range<u32>,
+    ) -> Self {
+        let mut first = u32::MAX;
+        let ranges = rays.each_ref().map(|r| {
+            let (t0, n) = range(r);
+            let w = occupied(r, (t0, n));
+            if w.start < w.end {
+                first = first.min(w.start);
+                (t0, w.end.min(n))
+            } else {
+                (t0, 0)
+            }
+        });
+        Self {
+            ranges,
+            first: if first == u32::MAX { 0 } else { first },
+            total: 0,
+        }
+    }
+}
+
+/// Marches eight rays front to back, lane `l` over its `samples` ([`Samples`]), stopping a
+/// lane once its `A ≥ a_stop`: the accumulated samples before the background,
+/// bit-identical to the one-ray march of the kind `K` ([`Kind`]) where every sample left
+/// out is transparent: the float modes `OpacityWeighted`, `Separate`,
+/// `ExtinctionWeightedU8` (with the `τ` of every opacity byte in `taus`, which the others
+/// ignore) and `ExtinctionWeighted`, where `V` must be the mode's `LaneMode::Voxel`
+/// ([`StraightU8`]; for `ExtinctionWeighted`, [`ExtinctionF32`]: others read as transparent)
+/// and `vol` must [`fits`]; or [`IntOw`], the integer `OpacityWeighted` trilinear march at
+/// `F = 8` of `IntRayMarcher::cast`, where `V` must be [`StraightU8`], `vol` must
+/// [`fits_int`] and `a_stop` is the U8.8 stop level: the positions `Ray::at` computes, each
+/// clamped into `[0, n − 1]` per axis and quantized (**round half up** to 8 fractional bits,
+/// `IntPos::quantize`), sampled by [`int_sums`] (`IntMode::combine`, bit for bit) and
+/// composited by `fixed_point::front_to_back` until `A ≥ a_stop` before a sample.
 pub(crate) fn march8<V: Voxel, K: Kind>(
     _cpu: Avx2,
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
-    ranges: &[(f32, u32); LANES],
+    samples: &Samples,
     d: f32,
     a_stop: f32,
     taus: &[f32; 256],
 ) -> [K::Out; LANES] {
     // SAFETY: `march8_any` needs a CPU with AVX2 and FMA; `_cpu` exists only where
     // `Avx2::detect` found them on this CPU.
-    let [r, g, b, a] = unsafe { march8_any::<V, K>(vol, rays, ranges, d, a_stop, taus) };
+    let [r, g, b, a] = unsafe { march8_any::<V, K>(vol, rays, samples, d, a_stop, taus) };
     let mut out = [K::out([0; 4]); LANES];
     for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
         *o = K::out([r, g, b, a]);
@@ -238,23 +289,24 @@ pub(crate) fn march8<V: Voxel, K: Kind>(
     out
 }
 
-/// One ray front to back over its samples `t₀ + j·d`, `j < n`, with `(t₀, n) = range`, eight
-/// consecutive samples at a time in the lanes, composited in order until `A ≥ a_stop` (as
-/// the kind's one-ray march stops): the accumulated sample before the background and the
-/// number of samples composited, bit-identical to the one-ray march (`cast_counted`) of the
-/// kind `K`, as [`march8`] (whose requirements on `V`, `vol` and `a_stop` hold here too).
+/// One ray front to back over its `samples` ([`Samples::window`]), eight consecutive samples
+/// at a time in the lanes, composited in order until `A ≥ a_stop` (as the kind's one-ray
+/// march stops): the accumulated sample before the background and the number of samples
+/// composited (the ray's `total` where it does not stop early), bit-identical to the
+/// one-ray march (`cast_counted`) of the kind `K` where the samples left out are
+/// transparent, as [`march8`] (whose requirements on `V`, `vol` and `a_stop` hold here too).
 pub(crate) fn march_one<V: Voxel, K: Kind>(
     _cpu: Avx2,
     vol: &Volume<'_, V>,
     ray: &Ray,
-    range: (f32, u32),
+    samples: &Samples,
     d: f32,
     a_stop: f32,
     taus: &[f32; 256],
 ) -> (K::Out, u32) {
-    let (rays, ranges) = ([*ray; LANES], [range; LANES]);
+    let rays = [*ray; LANES];
     // SAFETY: as in `march8`.
-    let out = unsafe { march8_avx2::<V, K, 2, false, true>(vol, &rays, &ranges, d, a_stop, taus) };
+    let out = unsafe { march8_avx2::<V, K, 2, false, true>(vol, &rays, samples, d, a_stop, taus) };
     let [[r, n, ..], [g, ..], [b, ..], [a, ..]] = out;
     (K::out([r, g, b, a]), n as u32)
 }
@@ -272,19 +324,19 @@ pub(crate) fn fits_int<V: Voxel>(vol: &Volume<'_, V>) -> bool {
 fn march8_any<V: Voxel, K: Kind>(
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
-    ranges: &[(f32, u32); LANES],
+    samples: &Samples,
     d: f32,
     a_stop: f32,
     taus: &[f32; 256],
 ) -> [[i32; LANES]; 4] {
     let [r0, ..] = rays;
     if rays.iter().any(|r| r.dir() != r0.dir()) {
-        march8_avx2::<V, K, 2, false, false>(vol, rays, ranges, d, a_stop, taus)
+        march8_avx2::<V, K, 2, false, false>(vol, rays, samples, d, a_stop, taus)
     } else {
         match major_axis(r0.dir()) {
-            0 => march8_avx2::<V, K, 0, true, false>(vol, rays, ranges, d, a_stop, taus),
-            1 => march8_avx2::<V, K, 1, true, false>(vol, rays, ranges, d, a_stop, taus),
-            _ => march8_avx2::<V, K, 2, true, false>(vol, rays, ranges, d, a_stop, taus),
+            0 => march8_avx2::<V, K, 0, true, false>(vol, rays, samples, d, a_stop, taus),
+            1 => march8_avx2::<V, K, 1, true, false>(vol, rays, samples, d, a_stop, taus),
+            _ => march8_avx2::<V, K, 2, true, false>(vol, rays, samples, d, a_stop, taus),
         }
     }
 }

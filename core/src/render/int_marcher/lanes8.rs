@@ -59,7 +59,7 @@ where
 
     #[inline(always)]
     fn visit<K: IntLaneMode>(self, _mode: &K) -> Self::Out {
-        use crate::arch::avx2::{in_packets, march8, IntOw};
+        use crate::arch::avx2::{in_packets, march8, IntOw, Samples};
         let m = self.marcher;
         let vol = m.sampler.volume();
         let Some(data) = K::voxels(vol.data()) else {
@@ -68,8 +68,9 @@ where
         let vol = vol.with_data(data);
         let (d, a_stop) = (m.step.d(), f32::from(m.stop.a_stop()));
         in_packets(self.rays, self.out, |r| {
-            let ranges = r.each_ref().map(|r| m.sample_range(r));
-            let acc = march8::<K::Voxel, IntOw>(self.cpu, &vol, r, &ranges, d, a_stop, NO_TAUS);
+            let samples =
+                Samples::packet(r, |r| m.sample_range(r), |r, s| m.skip.occupied(r, s, d));
+            let acc = march8::<K::Voxel, IntOw>(self.cpu, &vol, r, &samples, d, a_stop, NO_TAUS);
             acc.map(|a| front_to_back(a, m.background))
         })
     }
@@ -80,7 +81,7 @@ pub(super) struct OneRay<'v, 'r, V> {
     pub(super) vol: &'r Volume<'v, V>,
     pub(super) cpu: crate::arch::avx2::Avx2,
     pub(super) ray: &'r Ray,
-    pub(super) range: (f32, u32),
+    pub(super) samples: crate::arch::avx2::Samples,
     pub(super) d: f32,
     pub(super) a_stop: f32,
 }
@@ -92,9 +93,9 @@ impl<V: Voxel> IntLaneVisitor for OneRay<'_, '_, V> {
     fn visit<K: IntLaneMode>(self, _mode: &K) -> Self::Out {
         use crate::arch::avx2::{march_one, IntOw};
         let vol = self.vol.with_data(K::voxels(self.vol.data())?);
-        let (ray, range, d, a_stop) = (self.ray, self.range, self.d, self.a_stop);
+        let (ray, samples, d, a_stop) = (self.ray, &self.samples, self.d, self.a_stop);
         Some(march_one::<K::Voxel, IntOw>(
-            self.cpu, &vol, ray, range, d, a_stop, NO_TAUS,
+            self.cpu, &vol, ray, samples, d, a_stop, NO_TAUS,
         ))
     }
 }
