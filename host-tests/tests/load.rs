@@ -535,7 +535,7 @@ fn nifti_cli() {
     for (args, want) in [
         (
             vec!["--nifti".into(), nii.clone(), "--nrrd".into(), nrrd],
-            "--raw, --nrrd, --nifti or --tiff, not several",
+            "--raw, --nrrd, --nifti, --tiff or --dicom, not several",
         ),
         (vec!["--nifti".into(), bad], "cli-bad.nii: need a 3D volume"),
     ] {

@@ -637,7 +637,7 @@ fn cli_formats_and_window() {
         ),
         (
             vec!["--tiff", &tif, "--nrrd", &nrrd],
-            "--raw, --nrrd, --nifti or --tiff, not several",
+            "--raw, --nrrd, --nifti, --tiff or --dicom, not several",
         ),
         (
             vec!["--tiff", &nrrd],
