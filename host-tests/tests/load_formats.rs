@@ -72,6 +72,7 @@ fn source_name(s: SpaceSource) -> &'static str {
         SpaceSource::NiftiPixdim => "pixdim",
         SpaceSource::NrrdSpaceDirections => "nrrd-space",
         SpaceSource::NrrdSpacings => "nrrd-spacings",
+        SpaceSource::DicomPatient => "dicom-patient",
     }
 }
 
