@@ -371,3 +371,23 @@ fn render_a_dicom_folder() {
         );
     }
 }
+
+#[test]
+fn corrupt_bytes_give_errors_not_panics() {
+    // Every byte of one slice, in turn, inverted: the series loads or is refused, and each
+    // refusal names a file or the folder.
+    let (d, files) = copy_fixture("cor_u8");
+    let victim = &files[1];
+    let good = std::fs::read(victim).unwrap();
+    let mut refused = 0;
+    for at in 128..good.len() {
+        let mut b = good.clone();
+        b[at] ^= 0xFF;
+        std::fs::write(victim, &b).unwrap();
+        if let Err(e) = read_dicom_series(&d, None, DEFAULT_MEMORY_CAP) {
+            assert!(e.to_string().contains("cor_u8"), "byte {at}: {e}");
+            refused += 1;
+        }
+    }
+    assert!(refused > 100, "{refused} refusals");
+}

@@ -447,9 +447,12 @@ fn slice_of(
         .filter(|t| t.is_finite() && *t > 0.0);
     let (data_offset, len) = pixels.ok_or_else(|| bad(path, "no pixel data (7FE0,0010)"))?;
     // Sizes checked against the element's length, itself checked against the file's.
-    let need = (rows as u64) * (cols as u64) * (bits as u64 / 8);
+    // At most 2³² · 2³² · 4 for absurd values: saturate rather than overflow.
+    let need = (rows as u64)
+        .saturating_mul(cols as u64)
+        .saturating_mul(bits as u64 / 8);
     let len = u64::from(len);
-    if len < need || len > need + need % 2 {
+    if len < need || len > need.saturating_add(need % 2) {
         return Err(bad(
             path,
             format!(
