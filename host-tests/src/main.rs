@@ -111,7 +111,7 @@ enum Command {
 /// The `render` command's arguments.
 #[derive(clap::Args, Debug)]
 struct RenderArgs {
-    /// A scene name from `volsample scenes` (ignored with --raw/--nrrd/--nifti/--tiff).
+    /// A scene name from `volsample scenes` (ignored with --raw/--nrrd/--nifti/--tiff/--dicom).
     #[arg(long, default_value = "red-32")]
     scene: String,
     /// A raw volume file (needs --dims and --type).
@@ -126,6 +126,13 @@ struct RenderArgs {
     /// A multi-page TIFF stack, one grayscale page per slice.
     #[arg(long)]
     tiff: Option<PathBuf>,
+    /// A folder holding a DICOM series, one uncompressed grayscale slice per file (other files
+    /// in it are skipped).
+    #[arg(long, value_name = "DIR")]
+    dicom: Option<PathBuf>,
+    /// With --dicom: the SeriesInstanceUID to read when the folder holds several series.
+    #[arg(long, value_name = "UID")]
+    dicom_series: Option<String>,
     /// Dimensions of a raw file: `X,Y,Z` or `X Y Z`.
     #[arg(long, num_args = 1..=3, value_delimiter = ',', value_name = "X,Y,Z")]
     dims: Option<Vec<usize>>,
@@ -281,12 +288,15 @@ fn user_volume(a: &RenderArgs) -> Result<Option<UserVolume>, String> {
     if a.tf.is_some() && a.window.is_some() {
         return Err("--window sets the default ramp; give --window or --tf, not both".into());
     }
+    if a.dicom_series.is_some() && a.dicom.is_none() {
+        return Err("--dicom-series chooses a series of a --dicom folder".into());
+    }
     let cap = load::DEFAULT_MEMORY_CAP;
     // A bar over the bytes read (drawn only on a terminal), cleared when this returns.
     let _loading = (!a.quiet).then(LoadBar::new);
-    let (path, vol) = match (&a.raw, &a.nrrd, &a.nifti, &a.tiff) {
-        (None, None, None, None) => return Ok(None),
-        (Some(path), None, None, None) => {
+    let (path, vol) = match (&a.raw, &a.nrrd, &a.nifti, &a.tiff, &a.dicom) {
+        (None, None, None, None, None) => return Ok(None),
+        (Some(path), None, None, None, None) => {
             let dims = three("dims", a.dims.as_deref().ok_or("--raw needs --dims X,Y,Z")?)?;
             let ty = load::ScalarType::parse(&a.ty).ok_or_else(|| {
                 format!(
@@ -311,12 +321,16 @@ fn user_volume(a: &RenderArgs) -> Result<Option<UserVolume>, String> {
             };
             (path, load::read_raw(path, dims, ty, big, spacing, cap))
         }
-        (None, Some(path), None, None) => (path, load::read_nrrd(path, cap)),
-        (None, None, Some(path), None) => (path, load::read_nifti(path, cap)),
-        (None, None, None, Some(path)) => (path, load::read_tiff(path, cap)),
+        (None, Some(path), None, None, None) => (path, load::read_nrrd(path, cap)),
+        (None, None, Some(path), None, None) => (path, load::read_nifti(path, cap)),
+        (None, None, None, Some(path), None) => (path, load::read_tiff(path, cap)),
+        (None, None, None, None, Some(path)) => (
+            path,
+            load::read_dicom_series(path, a.dicom_series.as_deref(), cap),
+        ),
         _ => {
             return Err(
-                "give one volume file: --raw, --nrrd, --nifti or --tiff, not several".into(),
+                "give one volume: --raw, --nrrd, --nifti, --tiff or --dicom, not several".into(),
             )
         }
     };

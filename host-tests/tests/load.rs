@@ -535,7 +535,7 @@ fn nifti_cli() {
     for (args, want) in [
         (
             vec!["--nifti".into(), nii.clone(), "--nrrd".into(), nrrd],
-            "--raw, --nrrd, --nifti or --tiff, not several",
+            "--raw, --nrrd, --nifti, --tiff or --dicom, not several",
         ),
         (vec!["--nifti".into(), bad], "cli-bad.nii: need a 3D volume"),
     ] {
@@ -582,6 +582,16 @@ fn load_progress_follows_the_bytes_read() {
     ];
     for (path, load) in cases {
         let len = std::fs::metadata(path).unwrap().len();
+        check_progress(len, path, load);
+    }
+    // A DICOM series: the bar runs over the pixel bytes of its slices (5 slices of 6 × 4
+    // int16 samples).
+    let dicom = data.join("dicom/ct_i16_oblique");
+    let load =
+        || volsample_host::scene::load::read_dicom_series(&dicom, None, DEFAULT_MEMORY_CAP).is_ok();
+    check_progress(5 * 6 * 4 * 2, &dicom, &load);
+
+    fn check_progress(len: u64, path: &PathBuf, load: &dyn Fn() -> bool) {
         let bar = indicatif::ProgressBar::hidden();
         show_progress(Some(bar.clone()));
         assert!(load(), "{}", path.display());

@@ -72,6 +72,7 @@ fn source_name(s: SpaceSource) -> &'static str {
         SpaceSource::NiftiPixdim => "pixdim",
         SpaceSource::NrrdSpaceDirections => "nrrd-space",
         SpaceSource::NrrdSpacings => "nrrd-spacings",
+        SpaceSource::DicomPatient => "dicom-patient",
     }
 }
 
@@ -637,7 +638,7 @@ fn cli_formats_and_window() {
         ),
         (
             vec!["--tiff", &tif, "--nrrd", &nrrd],
-            "--raw, --nrrd, --nifti or --tiff, not several",
+            "--raw, --nrrd, --nifti, --tiff or --dicom, not several",
         ),
         (
             vec!["--tiff", &nrrd],

@@ -1,10 +1,11 @@
-//! Loading a user's volume (raw, NRRD, NIfTI-1/-2 or a multi-page TIFF stack) and transfer
-//! function (JSON or text).
+//! Loading a user's volume (raw, NRRD, NIfTI-1/-2, a multi-page TIFF stack or a folder of
+//! DICOM slices) and transfer function (JSON or text).
 //!
 //! The `read_*` functions return a [`LoadedVolume`]: the dimensions, the samples in the file's
 //! own type ([`Scalars`]: a `u8` volume takes one byte per voxel) and the index-to-world
 //! [`Space`] in **RAS+** millimetres, the convention of NIfTI and nibabel (`+x` right, `+y`
-//! anterior, `+z` superior); NRRD's LPS and LAS spaces are converted to it. The older `load_*`
+//! anterior, `+z` superior); NRRD's LPS and LAS spaces and DICOM's LPS patient coordinates are
+//! converted to it. The older `load_*`
 //! functions return the same samples as `f32`.
 //!
 //! Safety: nothing panics on bad input. Every failure is a [`LoadError`] that names the file
@@ -24,10 +25,12 @@ use indicatif::ProgressBar;
 
 use volsample::ControlPoint;
 
+mod dicom;
 mod nifti;
 mod nrrd;
 mod tiff;
 
+pub use self::dicom::read_dicom_series;
 pub use self::nifti::read_nifti;
 pub use self::nrrd::read_nrrd;
 pub use self::tiff::read_tiff;
@@ -218,6 +221,9 @@ pub enum SpaceSource {
     NrrdSpaceDirections,
     /// NRRD `spacings` alone (diagonal, origin zero).
     NrrdSpacings,
+    /// DICOM `ImagePositionPatient`, `ImageOrientationPatient` and `PixelSpacing` of the sorted
+    /// slices, converted from LPS to RAS.
+    DicomPatient,
 }
 
 /// The index-to-world mapping of a volume in RAS+ millimetres.
@@ -494,6 +500,26 @@ pub fn show_progress(bar: Option<ProgressBar>) {
     PROGRESS.with(|p| *p.borrow_mut() = bar);
 }
 
+/// Sets the length of the bar of [`show_progress`], if any, and its position to 0 (for
+/// loaders that read many files, such as a DICOM series).
+pub(crate) fn progress_start(len: u64) {
+    PROGRESS.with(|p| {
+        if let Some(bar) = &*p.borrow() {
+            bar.set_length(len);
+            bar.set_position(0);
+        }
+    });
+}
+
+/// Advances the bar of [`show_progress`], if any, by `n`.
+pub(crate) fn progress_inc(n: u64) {
+    PROGRESS.with(|p| {
+        if let Some(bar) = &*p.borrow() {
+            bar.inc(n);
+        }
+    });
+}
+
 /// A file whose reads and seeks move the bar of [`show_progress`], if one was set when it
 /// was opened.
 pub(crate) struct Tracked {
@@ -574,11 +600,16 @@ pub fn read_raw(
     Ok(LoadedVolume { dims, data, space })
 }
 
-/// Reads a NRRD, NIfTI-1/-2 (plain or gzip) or TIFF file, chosen by its first bytes.
+/// Reads a NRRD, NIfTI-1/-2 (plain or gzip) or TIFF file, chosen by its first bytes, or the
+/// DICOM series in a folder ([`read_dicom_series`], which must hold one series).
 ///
 /// # Errors
-/// Those of [`read_nrrd`], [`read_nifti`] and [`read_tiff`]; a file that is none of them.
+/// Those of [`read_nrrd`], [`read_nifti`], [`read_tiff`] and [`read_dicom_series`]; a file that
+/// is none of them (a single DICOM file is refused: its folder holds the series).
 pub fn read_volume(path: &Path, cap: u64) -> Result<LoadedVolume, LoadError> {
+    if path.is_dir() {
+        return read_dicom_series(path, None, cap);
+    }
     let (mut r, _) = open(path)?;
     let head = r.fill_buf().map_err(io_err(path))?;
     let mut magic = [0u8; 348];
@@ -593,6 +624,11 @@ pub fn read_volume(path: &Path, cap: u64) -> Result<LoadedVolume, LoadError> {
         || &magic[344..348] == b"n+1\0"
     {
         read_nifti(path, cap)
+    } else if &magic[128..132] == b"DICM" {
+        Err(bad(
+            path,
+            "a DICOM file: give its folder, which holds the series of slices",
+        ))
     } else {
         Err(bad(
             path,

@@ -15,6 +15,7 @@ Run from anywhere (the files land beside this script):
     python3 -m venv /tmp/v && /tmp/v/bin/pip install numpy pynrrd nibabel tifffile
     /tmp/v/bin/python host-tests/tests/data/formats/make_fixtures.py
 Tested with numpy 2.4.6, pynrrd 1.1.3, nibabel 5.4.2, tifffile 2026.3.3.
+The DICOM series (dicom/) come from make_dicom_fixtures.py beside this script (pydicom).
 """
 
 import json
