@@ -591,7 +591,7 @@ fn load_progress_follows_the_bytes_read() {
         || volsample_host::scene::load::read_dicom_series(&dicom, None, DEFAULT_MEMORY_CAP).is_ok();
     check_progress(5 * 6 * 4 * 2, &dicom, &load);
 
-    fn check_progress(len: u64, path: &PathBuf, load: &dyn Fn() -> bool) {
+    fn check_progress(len: u64, path: &std::path::Path, load: &dyn Fn() -> bool) {
         let bar = indicatif::ProgressBar::hidden();
         show_progress(Some(bar.clone()));
         assert!(load(), "{}", path.display());
