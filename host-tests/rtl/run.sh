@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
 # Generates reference vectors with `volsample vectors` for every kernel, runs the
 # Verilog-2005 datapaths in this directory against them with Icarus Verilog, checks that
-# each bench really compares (mutation check) and lints with Verilator when it is installed.
-# Exits non-zero on any mismatch, missing PASS line, failed mutation check or lint warning.
+# each bench really compares (mutation check), lints with Verilator and, when Verilator is
+# installed, runs the pipelined datapath (vs_ow_ftb_pipe) in a Verilator C++ bench; when
+# Yosys is installed it synthesizes every datapath (synth.sh). Exits non-zero on any
+# mismatch, missing PASS line, failed mutation check, lint warning or datapath that stops
+# synthesizing.
 #
 # Environment: VECTORS_COUNT (default 10000, at least 10000), VECTORS_SEED (default 1),
-# VECTORS_OUT (default target/hdl-vectors), CARGO_TARGET_DIR as usual.
+# VECTORS_OUT (default target/hdl-vectors), CARGO_TARGET_DIR as usual; SYNTH=0 skips the
+# synthesis step, SYNTH_JOBS (default 2) parallel Yosys runs.
 set -euo pipefail
 RTL="$(cd "$(dirname "$0")" && pwd)"
 cd "$RTL/../.."
@@ -190,4 +194,41 @@ else
   echo "--- verilator not installed: lint skipped"
 fi
 
-echo "--- HDL vectors: PASS ($nk kernels x $COUNT vectors generated; $RUNS bench runs, 0 mismatches; $RUNS mutation checks caught; $(( $(date +%s) - T_START )) s)"
+PIPE_NOTE="pipelined datapath skipped (verilator not installed)"
+if command -v verilator >/dev/null; then
+  echo "--- pipelined OW trilinear + front-to-back (vs_ow_ftb_pipe.v), Verilator C++ bench"
+  for f in 4 8 12; do
+    case "$f" in 8) ow="$OUT/opacity-weighted-trilinear" ;; *) ow="$OUT/opacity-weighted-trilinear-f$f" ;; esac
+    mdir="$SIM/pipe_f$f"
+    verilator --cc --exe --build -j 1 -Wall -O2 -GF="$f" --Mdir "$mdir" --top-module vs_ow_ftb_pipe \
+      "$RTL/vs_ow_ftb_pipe.v" "$RTL/vs_div255.v" "$RTL/tb_ow_ftb_pipe.cpp" -o tb_ow_ftb_pipe \
+      > "$mdir.build.log" 2>&1 || { cat "$mdir.build.log"; echo "run.sh: verilator build of vs_ow_ftb_pipe F=$f failed" >&2; exit 1; }
+    pipe() { "$mdir/tb_ow_ftb_pipe" "$f" "$COUNT" "$ow/inputs.hex" "$1" "$OUT/composite-front-to-back/inputs.hex" || true; }
+    pipe "$ow/expected.hex" > "$SIM/pipe_f$f.log"
+    grep -E '^(MISMATCH|PASS|FAIL)' "$SIM/pipe_f$f.log" | head -25
+    grep -qE "^PASS: .*: $COUNT vectors, 0 mismatches" "$SIM/pipe_f$f.log" || { echo "run.sh: vs_ow_ftb_pipe F=$f FAILED" >&2; exit 1; }
+    mutate "$ow/expected.hex" "$SIM/pipe_f$f.mutated.hex" "$LINE"
+    pipe "$SIM/pipe_f$f.mutated.hex" > "$SIM/pipe_f$f.mutated.log"
+    if grep -qE '^FAIL: .* 1 mismatches$' "$SIM/pipe_f$f.mutated.log" \
+       && grep -q "^MISMATCH vector $(( LINE - 1 )):" "$SIM/pipe_f$f.mutated.log"; then
+      echo "    mutation: flipped bit 0 of expected word $(( LINE - 1 )) -> $(grep '^FAIL' "$SIM/pipe_f$f.mutated.log")"
+    else
+      echo "run.sh: mutation check FAILED for vs_ow_ftb_pipe F=$f" >&2
+      cat "$SIM/pipe_f$f.mutated.log" >&2
+      exit 1
+    fi
+  done
+  PIPE_NOTE="pipelined datapath at F = 4, 8, 12 passed in Verilator"
+fi
+
+SYNTH_NOTE="synthesis skipped (yosys not installed)"
+if [ "${SYNTH:-1}" = 0 ]; then
+  SYNTH_NOTE="synthesis skipped (SYNTH=0)"
+elif command -v yosys >/dev/null; then
+  echo "--- synthesis (synth.sh): Yosys synth_xilinx -family xc7 and synth_ice40 -dsp, per datapath"
+  SYNTH_JOBS="${SYNTH_JOBS:-2}" SYNTH_OUT="$OUT/synth" "$RTL/synth.sh" "$OUT"
+  SYNTH_NOTE="every datapath synthesized"
+else
+  echo "--- yosys not installed: synthesis skipped"
+fi
+echo "--- HDL vectors: PASS ($nk kernels x $COUNT vectors generated; $RUNS bench runs, 0 mismatches; $RUNS mutation checks caught; $PIPE_NOTE; $SYNTH_NOTE; $(( $(date +%s) - T_START )) s)"
