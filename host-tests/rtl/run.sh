@@ -88,10 +88,11 @@ compile() {
   iverilog -g2005 -Wall -s "$top" "$@" -o "$SIM/$name.vvp" $(sources "$top") > "$log" 2>&1 || { cat "$log"; exit 1; }
   if [ -s "$log" ]; then cat "$log"; echo "run.sh: iverilog warnings for $name" >&2; exit 1; fi
 }
-# simulate NAME LOG DIR EXPECTED_FILE : runs bench $SIM/NAME.vvp on DIR/inputs.hex, log in
-# LOG, in DIR (the benches whose datapaths read tables load DIR/table_*.hex).
+# simulate NAME LOG DIR EXPECTED_FILE [INPUTS_FILE] : runs bench $SIM/NAME.vvp on
+# INPUTS_FILE (default DIR/inputs.hex), log in LOG, in DIR (the benches whose datapaths read
+# tables load DIR/table_*.hex).
 simulate() {
-  (cd "$3" && vvp -n "$SIM/$1.vvp" +INPUTS="$3/inputs.hex" +EXPECTED="$4" > "$2" 2>&1) || true
+  (cd "$3" && vvp -n "$SIM/$1.vvp" +INPUTS="${5:-$3/inputs.hex}" +EXPECTED="$4" > "$2" 2>&1) || true
 }
 
 TOTAL_SIM=0
@@ -142,7 +143,10 @@ done <<< "$BENCHES"
 [ "$FAILED" -eq 0 ] || exit 1
 echo "    $RUNS bench runs x $COUNT vectors, 0 mismatches; total simulation time: ${TOTAL_SIM} s"
 
-echo "--- mutation check: one flipped bit in one expected word must make each bench fail"
+# The mutation check runs each bench again on its first MUT_N vectors (to keep the stage
+# short; the full runs above compared all of them) with one expected bit flipped.
+MUT_N=1000
+echo "--- mutation check: one flipped bit in one expected word must make each bench fail (first $MUT_N vectors)"
 # mutate SRC DST LINE : copy SRC to DST with bit 0 of word LINE (1-based) flipped.
 mutate() {
   awk -v n="$3" 'NR == n {
@@ -153,11 +157,15 @@ mutate() {
   cmp -s "$1" "$2" && { echo "run.sh: mutation did not change $1" >&2; exit 1; }
   return 0
 }
-LINE=$(( COUNT / 2 + 1 ))
+LINE=$(( MUT_N / 2 + 1 ))
 while IFS='|' read -r name top dir params; do
   dir="$OUT/$dir"
-  mutate "$dir/expected.hex" "$SIM/$name.mutated.hex" "$LINE"
-  simulate "$name" "$SIM/$name.mutated.log" "$dir" "$SIM/$name.mutated.hex"
+  # shellcheck disable=SC2086
+  compile "$name.mut" "$top" -P"$top.N=$MUT_N" $params
+  head -n "$MUT_N" "$dir/inputs.hex" > "$SIM/$name.mut.inputs.hex"
+  head -n "$MUT_N" "$dir/expected.hex" > "$SIM/$name.mut.expected.hex"
+  mutate "$SIM/$name.mut.expected.hex" "$SIM/$name.mutated.hex" "$LINE"
+  simulate "$name.mut" "$SIM/$name.mutated.log" "$dir" "$SIM/$name.mutated.hex" "$SIM/$name.mut.inputs.hex"
   if grep -qE '^FAIL: .* 1 mismatches$' "$SIM/$name.mutated.log" \
      && grep -q "^MISMATCH vector $(( LINE - 1 )):" "$SIM/$name.mutated.log"; then
     echo "    $name: flipped bit 0 of expected word $(( LINE - 1 )) -> bench FAILS as it must: $(grep '^FAIL' "$SIM/$name.mutated.log")"
@@ -203,12 +211,12 @@ if command -v verilator >/dev/null; then
     verilator --cc --exe --build -j 1 -Wall -O2 -GF="$f" --Mdir "$mdir" --top-module vs_ow_ftb_pipe \
       "$RTL/vs_ow_ftb_pipe.v" "$RTL/vs_div255.v" "$RTL/tb_ow_ftb_pipe.cpp" -o tb_ow_ftb_pipe \
       > "$mdir.build.log" 2>&1 || { cat "$mdir.build.log"; echo "run.sh: verilator build of vs_ow_ftb_pipe F=$f failed" >&2; exit 1; }
-    pipe() { "$mdir/tb_ow_ftb_pipe" "$f" "$COUNT" "$ow/inputs.hex" "$1" "$OUT/composite-front-to-back/inputs.hex" || true; }
-    pipe "$ow/expected.hex" > "$SIM/pipe_f$f.log"
+    pipe() { "$mdir/tb_ow_ftb_pipe" "$f" "$2" "$ow/inputs.hex" "$1" "$OUT/composite-front-to-back/inputs.hex" || true; }
+    pipe "$ow/expected.hex" "$COUNT" > "$SIM/pipe_f$f.log"
     grep -E '^(MISMATCH|PASS|FAIL)' "$SIM/pipe_f$f.log" | head -25
     grep -qE "^PASS: .*: $COUNT vectors, 0 mismatches" "$SIM/pipe_f$f.log" || { echo "run.sh: vs_ow_ftb_pipe F=$f FAILED" >&2; exit 1; }
     mutate "$ow/expected.hex" "$SIM/pipe_f$f.mutated.hex" "$LINE"
-    pipe "$SIM/pipe_f$f.mutated.hex" > "$SIM/pipe_f$f.mutated.log"
+    pipe "$SIM/pipe_f$f.mutated.hex" "$MUT_N" > "$SIM/pipe_f$f.mutated.log"
     if grep -qE '^FAIL: .* 1 mismatches$' "$SIM/pipe_f$f.mutated.log" \
        && grep -q "^MISMATCH vector $(( LINE - 1 )):" "$SIM/pipe_f$f.mutated.log"; then
       echo "    mutation: flipped bit 0 of expected word $(( LINE - 1 )) -> $(grep '^FAIL' "$SIM/pipe_f$f.mutated.log")"
