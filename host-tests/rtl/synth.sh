@@ -10,6 +10,8 @@
 # ray march) take minutes each to map; by default they are only elaborated and coarsely
 # synthesized (`synth -run :fine`, then `check -assert`: they must still synthesize, in
 # seconds; row "coarse", word-level cells), and mapped with --all (figures in README.md).
+# (With Yosys 0.23, --all stops on vs_ray_march for iCE40: an internal assertion in its
+# DSP inference, see README.md.)
 #
 # Usage: synth.sh [--all] [VECTORS_DIR]. VECTORS_DIR is run.sh's vector directory: the
 # datapaths with ROM tables read them ($readmemh) from its opacity-correction and
