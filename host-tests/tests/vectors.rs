@@ -997,3 +997,90 @@ fn manifest_fields_decode_the_new_kernels_words() {
         }
     }
 }
+
+/// The manifests are self-contained (issue 32): the arithmetic is written out in each, not
+/// deferred to the Rust docs; every rounding step names its rule; field names are unique
+/// within a word, and the rules never use a field's name for anything else.
+#[test]
+fn manifests_are_self_contained_with_one_name_per_field() {
+    for kernel in Kernel::ALL {
+        let s = spec(kernel, 60, 3, 8);
+        let m = vectors::manifest(&s);
+        let rounding = m["rounding"].to_string();
+        for deferral in ["docs", "volsample::", "fixed_point"] {
+            assert!(
+                !rounding.contains(deferral),
+                "{}: the rounding rules defer to '{deferral}': {rounding}",
+                kernel.name()
+            );
+        }
+        let mut names = Vec::new();
+        for key in ["inputs", "expected"] {
+            let fields: Vec<String> = m[key]["fields"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|f| f["name"].as_str().unwrap().to_string())
+                .collect();
+            let mut unique = fields.clone();
+            unique.sort();
+            unique.dedup();
+            assert_eq!(unique.len(), fields.len(), "{}: {key}", kernel.name());
+            names.extend(fields);
+        }
+        // Position and step fields are named only as fields (the weights' per-axis factors
+        // were once also called px, py, pz).
+        for name in names
+            .iter()
+            .filter(|n| n.len() == 2 && n.starts_with(['p', 'd']))
+        {
+            let pattern = |sep: char| format!("{name}{sep}");
+            for sep in ['·', ' ', ','] {
+                assert!(
+                    !rounding.contains(&pattern(sep)),
+                    "{}: the rules use the field name {name} for something else",
+                    kernel.name()
+                );
+            }
+        }
+    }
+    // The correction (also inside the ray-march manifests) spells out each step with its rule
+    // and reads the tables by file name.
+    for kernel in [
+        Kernel::Correction,
+        Kernel::RayMarch(SampleFilter::Nearest),
+        Kernel::RayMarch(SampleFilter::Trilinear),
+    ] {
+        let m = vectors::manifest(&spec(kernel, 60, 3, 8));
+        let text = m["rounding"].to_string();
+        for t in m["tables"].as_array().unwrap() {
+            let file = t["file"].as_str().unwrap();
+            assert!(text.contains(file.trim_end_matches(".hex")), "{file}");
+        }
+        for needle in [
+            "2^57) >> 58",
+            "2^42) >> 43",
+            "2^78) >> 79",
+            "2^82) >> 83",
+            "div (2·v)",
+        ] {
+            assert!(text.contains(needle), "{}: {needle}", kernel.name());
+        }
+        let steps = if kernel == Kernel::Correction {
+            m["rounding"]["steps"].clone()
+        } else {
+            m["rounding"]["correction"]["rule"]["steps"].clone()
+        };
+        let steps = steps.as_array().unwrap();
+        assert_eq!(steps.len(), 8);
+        for st in steps {
+            let rule = st["rule"].as_str().unwrap();
+            assert!(
+                ["round half up", "truncate", "saturate", "exact"]
+                    .iter()
+                    .any(|r| rule.contains(r)),
+                "{rule}"
+            );
+        }
+    }
+}

@@ -86,13 +86,34 @@ pub(super) fn case_from_values(v: &[u64]) -> Option<Case> {
     })
 }
 
-/// The rule of one correction (also applied by the ray marcher when `d ≠ d′`).
+/// The rule of one correction (also applied by the ray marcher when `d ≠ d′`): every
+/// operation as integer arithmetic, with the tables of [`correction_tables`] by file name.
 pub(super) fn rounding_json() -> Value {
-    json!({"outputs": [
-        {"output": "a", "rule": "round half up, truncate, saturate",
-         "formula": "α_d = 1 − e^(−r·L), L = −ln(1 − α) from the ψ (α < 2^15) or ln m tables; y = r·L to 28 fractional bits (round half up, saturate at 16); α_d = ⌊65280·y·φ(y) + ½⌋ (y < 1) or ⌊65280·(1 − e^(−y)) + ½⌋ (1 ≤ y < 16) or 65280; α = 0 → 0, α = 65280 → 65280. Exact arithmetic: volsample::fixed_point::correction module docs"},
-        {"output": "r, g, b", "rule": "round half up", "formula": "c = ⌊C̃·α_d/α + ½⌋ (0 when α = 0)"},
-    ]})
+    json!({
+        "inputs": "v = α of the sample (s_a; U8.8, 0..=65280), c = each of its colors (s_r, s_g, s_b; each ≤ v), r = ratio_raw (U32.32); ratio_f32 is informational and not read",
+        "tables": "T[j] is line j of table_T.hex (table_psi: G, table_ln_m: Λ, table_ln_top: K, table_phi: Φ, table_exp: E, table_exp_int: X); interp7(T, j) = T[j >> 7]·(128 − (j & 127)) + T[(j >> 7) + 1]·(j & 127) for 0 ≤ j < 2^15 (exact, < 2^39; j >> 7 is a truncate); interp20(T, t) = T[t >> 20]·(2^20 − (t & (2^20 − 1))) + T[(t >> 20) + 1]·(t & (2^20 − 1)) for 0 ≤ t < 2^28 (exact, ≤ 2^51)",
+        "steps": [
+            {"step": "1. ends", "rule": "exact",
+             "formula": "v = 0: a = 0 and r, g, b = 0; v = 65280: a = 65280 (and step 6 gives c unchanged); otherwise steps 2–6"},
+            {"step": "2. optical depth, v < 2^15", "rule": "round half up",
+             "formula": "y = (r·v·interp7(G, v) + 2^57) >> 58, i.e. ⌊r·v·interp7(G, v)/2^58 + ½⌋ (product < 2^118): y = r·L with L = −ln(1 − α) in units of 2^−28"},
+            {"step": "3. optical depth, v ≥ 2^15", "rule": "round half up; saturate (at 0)",
+             "formula": "tv = 65280 − v (1..32512); e = ⌊log2 tv⌋ (0..14, the index of tv's top set bit); m = tv·2^(15−e) − 2^15 (0..2^15 − 1); L = max(K[e] − interp7(Λ, m), 0) (L < 2^43, units 2^−39); y = (r·L + 2^42) >> 43, i.e. ⌊r·L/2^43 + ½⌋ (product < 2^107)"},
+            {"step": "4. saturate", "rule": "saturate",
+             "formula": "y = min(y, 16·2^28) (then y < 2^33)"},
+            {"step": "5. a, y < 2^28", "rule": "round half up",
+             "formula": "P = interp20(Φ, y); a = (65280·y·P + 2^78) >> 79, i.e. ⌊65280·y·P/2^79 + ½⌋ (product < 2^95)"},
+            {"step": "5. a, 2^28 ≤ y < 16·2^28", "rule": "truncate (yi); round half up (a)",
+             "formula": "yi = y >> 28 (1..15); Q = X[yi − 1]·interp20(E, y mod 2^28) (exact, < 2^82); a = (65280·(2^83 − Q) + 2^82) >> 83, i.e. ⌊65280·(2^83 − Q)/2^83 + ½⌋"},
+            {"step": "5. a, y = 16·2^28", "rule": "exact", "formula": "a = 65280"},
+            {"step": "6. r, g, b", "rule": "round half up",
+             "formula": "c_d = ⌊c·a/v + ½⌋ = (2·c·a + v) div (2·v) (c·a ≤ 65280², numerator < 2^33); c_d ≤ a"},
+        ],
+        "outputs": [
+            {"output": "a", "rule": "round half up, truncate, saturate", "formula": "α_d = 1 − (1 − α)^r = 1 − e^(−r·L): steps 1–5"},
+            {"output": "r, g, b", "rule": "round half up", "formula": "C̃_d = C̃·α_d/α: step 6 (0 when v = 0)"},
+        ],
+    })
 }
 
 pub(super) const GENERATOR_DRAWS: &str = "w=next(); ratio=(1 + w mod 65536)/4096 (exact f32); then s as a U8.8 sample: w=next(); k=w>>61: 0→a=0, 1→a=65280, 2→a=256·((w>>8)&255), else a=(w&0xFFFFFFFF) mod 65281; then r,g,b each next() mod (a+1)";

@@ -216,7 +216,7 @@ pub(super) fn weights_json(filter: SampleFilter, f: u32) -> Value {
         }),
         SampleFilter::Trilinear => json!({
             "rule": "exact",
-            "formula": format!("w_i = px·py·pz with p = 2^F − f for the low corner and p = f for the high one (corner i at (i&1, (i>>1)&1, i>>2)); Σ w_i = 2^s, s = 3F = {s}"),
+            "formula": format!("w_i = wx·wy·wz, per axis the factor of the low corner 2^F − f and of the high corner f (wx from fx, wy from fy, wz from fz; corner i at (i&1, (i>>1)&1, i>>2), so w_0 = (2^F − fx)·(2^F − fy)·(2^F − fz)); exact, each ≤ 2^s; Σ w_i = 2^s, s = 3F = {s}"),
         }),
     }
 }

@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# Synthesizes the datapaths in this directory with Yosys for a Xilinx 7-series part
+# (`synth_xilinx -family xc7 -noiopad`) and for iCE40 (`synth_ice40 -dsp`, the UltraPlus
+# SB_MAC16 multipliers), and prints one table row per datapath and target: cells, DSP
+# blocks, LUTs (on xc7 with the SRL shift registers), flip-flops (registers the tools move
+# into DSP blocks are not counted) and carry cells. Exits non-zero if any datapath fails to
+# synthesize (or maps to no cells at all).
+#
+# The datapaths with ROM tables and 64-bit-ratio products (opacity correction, extinction,
+# ray march) take minutes each to map; by default they are only elaborated and coarsely
+# synthesized (`synth -run :fine`, then `check -assert`: they must still synthesize, in
+# seconds; row "coarse", word-level cells), and mapped with --all (figures in README.md).
+# (With Yosys 0.23, --all stops on vs_ray_march for iCE40: an internal assertion in its
+# DSP inference, see README.md.)
+#
+# Usage: synth.sh [--all] [VECTORS_DIR]. VECTORS_DIR is run.sh's vector directory: the
+# datapaths with ROM tables read them ($readmemh) from its opacity-correction and
+# extinction-weighted-trilinear subdirectories (as `volsample vectors` writes them); without
+# it those datapaths are skipped. Environment: SYNTH_OUT (default target/hdl-synth) for the
+# logs and statistics, SYNTH_JOBS (default 1) parallel Yosys runs, SYNTH_ONLY (a regular
+# expression) to synthesize only the datapaths whose name matches.
+set -euo pipefail
+RTL="$(cd "$(dirname "$0")" && pwd)"
+cd "$RTL/../.."
+command -v yosys >/dev/null || { echo "synth.sh: yosys not found (apt-get install -y yosys)" >&2; exit 2; }
+ALL=0
+if [ "${1:-}" = --all ]; then ALL=1; shift; fi
+VEC="${1:-}"
+[ -z "$VEC" ] || VEC="$(cd "$VEC" && pwd)"
+OUT="$(mkdir -p "${SYNTH_OUT:-target/hdl-synth}" && cd "${SYNTH_OUT:-target/hdl-synth}" && pwd)"
+JOBS="${SYNTH_JOBS:-1}"
+
+# name|top|parameters|sources (relative to RTL)|table directory (a subdirectory of VEC) or -
+# (the datapaths with tables are the heavy ones, mapped only with --all)
+DESIGNS="ow_trilinear_f4|vs_ow_trilinear|F=4|vs_ow_trilinear.v vs_div255.v|-
+ow_trilinear_f8|vs_ow_trilinear|F=8|vs_ow_trilinear.v vs_div255.v|-
+ow_trilinear_f12|vs_ow_trilinear|F=12|vs_ow_trilinear.v vs_div255.v|-
+separate_trilinear_f8|vs_separate_trilinear|F=8|vs_separate_trilinear.v vs_trilinear_weights.v vs_div255.v|-
+preweighted_trilinear_f8|vs_preweighted_trilinear|F=8|vs_preweighted_trilinear.v vs_trilinear_weights.v|-
+ow_nearest_f8|vs_ow_nearest|F=8|vs_ow_nearest.v vs_nearest_tap.v vs_div255.v|-
+separate_nearest_f8|vs_separate_nearest|F=8|vs_separate_nearest.v vs_nearest_tap.v vs_div255.v|-
+preweighted_nearest_f8|vs_preweighted_nearest|F=8|vs_preweighted_nearest.v vs_nearest_tap.v|-
+composite_ftb|vs_composite_ftb||vs_composite_ftb.v vs_div255.v|-
+downsample_ob|vs_downsample_ob||vs_downsample_ob.v vs_div255.v|-
+ow_ftb_pipe_f8|vs_ow_ftb_pipe|F=8|vs_ow_ftb_pipe.v vs_div255.v|-"
+if [ -n "$VEC" ]; then
+  DESIGNS="$DESIGNS
+opacity_correction|vs_opacity_correction||vs_opacity_correction.v|opacity-correction
+extinction_trilinear_f8|vs_extinction|F=8 NEAREST=0|vs_extinction.v vs_trilinear_weights.v vs_nearest_tap.v|extinction-weighted-trilinear
+extinction_nearest_f8|vs_extinction|F=8 NEAREST=1|vs_extinction.v vs_trilinear_weights.v vs_nearest_tap.v|extinction-weighted-trilinear
+ray_march_trilinear_f8|vs_ray_march|F=8 NEAREST=0|vs_ray_march.v vs_ow_trilinear.v vs_ow_nearest.v vs_nearest_tap.v vs_opacity_correction.v vs_composite_ftb.v vs_div255.v|opacity-correction
+ray_march_nearest_f8|vs_ray_march|F=8 NEAREST=1|vs_ray_march.v vs_ow_trilinear.v vs_ow_nearest.v vs_nearest_tap.v vs_opacity_correction.v vs_composite_ftb.v vs_div255.v|opacity-correction"
+fi
+
+# run NAME TOP PARAMS SOURCES TABLES TARGET: one Yosys run, statistics in $OUT/NAME.TARGET.stat.
+run() {
+  local name="$1" top="$2" params="$3" src="$4" tables="$5" target="$6" files="" s kv chparam="" synth dir="$RTL"
+  for s in $src; do files="$files $RTL/$s"; done
+  for kv in $params; do chparam="$chparam -chparam ${kv%%=*} ${kv#*=}"; done
+  case "$target" in
+    xc7) synth="synth_xilinx -family xc7 -noiopad -flatten -top $top" ;;
+    ice40) synth="synth_ice40 -dsp -flatten -top $top" ;;
+    coarse) synth="synth -flatten -top $top -run :fine; check -assert" ;;
+  esac
+  # The ROM tables are read ($readmemh) relative to the working directory.
+  [ "$tables" = "-" ] || dir="$VEC/$tables"
+  if ! (cd "$dir" && yosys -q -l "$OUT/$name.$target.log" \
+        -p "read_verilog$files; hierarchy -top $top $chparam; $synth; tee -q -o $OUT/$name.$target.stat stat" \
+        > /dev/null 2>&1); then
+    echo "synth.sh: $name failed to synthesize for $target (log: $OUT/$name.$target.log)" >&2
+    return 1
+  fi
+}
+
+# count STAT REGEX: sum of the cell counts whose type matches REGEX.
+count() {
+  awk -v re="$2" '$1 ~ re && $2 ~ /^[0-9]+$/ { n += $2 } END { print n + 0 }' "$1"
+}
+
+# targets TABLES: the runs of a datapath (the heavy ones only coarse without --all).
+targets() {
+  if [ "$1" = "-" ] || [ "$ALL" = 1 ]; then echo "xc7 ice40"; else echo coarse; fi
+}
+if [ -n "${SYNTH_ONLY:-}" ]; then
+  DESIGNS=$(grep -E "^(${SYNTH_ONLY})\|" <<< "$DESIGNS" || true)
+  [ -n "$DESIGNS" ] || { echo "synth.sh: no datapath matches SYNTH_ONLY=$SYNTH_ONLY" >&2; exit 2; }
+fi
+
+t0=$(date +%s)
+pids=()
+while IFS='|' read -r name top params src tables; do
+  for target in $(targets "$tables"); do
+    run "$name" "$top" "$params" "$src" "$tables" "$target" &
+    pids+=("$!")
+    while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n || true; done
+  done
+done <<< "$DESIGNS"
+failed=0
+for p in "${pids[@]}"; do wait "$p" || failed=1; done
+
+printf '%-26s %-6s %7s %5s %7s %5s %6s\n' datapath target cells DSP LUT FF carry
+while IFS='|' read -r name top params src tables; do
+  for target in $(targets "$tables"); do
+    st="$OUT/$name.$target.stat"
+    [ -s "$st" ] || { failed=1; continue; }
+    cells=$(awk '/Number of cells:/ { n = $4 } END { print n + 0 }' "$st")
+    case "$target" in
+      xc7) dsp=$(count "$st" '^DSP48'); lut=$(count "$st" '^(LUT[1-6]|SRL16E|SRLC32E)$'); ff=$(count "$st" '^FD'); carry=$(count "$st" '^CARRY') ;;
+      ice40) dsp=$(count "$st" '^SB_MAC16$'); lut=$(count "$st" '^SB_LUT4$'); ff=$(count "$st" '^SB_DFF'); carry=$(count "$st" '^SB_CARRY$') ;;
+      coarse) dsp=-; lut=-; ff=$(count "$st" 'dff'); carry=- ;;
+    esac
+    if [ "$cells" -eq 0 ]; then
+      echo "synth.sh: $name mapped to no cells for $target" >&2
+      failed=1
+    fi
+    printf '%-26s %-6s %7s %5s %7s %5s %6s\n' "$name" "$target" "$cells" "$dsp" "$lut" "$ff" "$carry"
+  done
+done <<< "$DESIGNS"
+echo "($(yosys -V | awk '{print $1, $2}'); $(( $(date +%s) - t0 )) s; logs in $OUT)"
+exit "$failed"
