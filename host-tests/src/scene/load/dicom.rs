@@ -42,6 +42,8 @@ use dicom_parser::dataset::LazyDataToken;
 use dicom_parser::StatefulDecode;
 use dicom_transfer_syntax_registry::{TransferSyntaxIndex, TransferSyntaxRegistry};
 
+use crate::view::{cross, dot};
+
 use super::{
     bad, checked_size, io_err, progress_inc, progress_start, read_full, LoadError, LoadedVolume,
     ScalarType, Scalars, Space, SpaceSource,
@@ -482,19 +484,6 @@ fn slice_of(
         big_endian,
         data_offset,
     })
-}
-
-/// `a × b`.
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// The image files of `dir` (the DICOM files, DICOMDIRs left out), sorted by name.
