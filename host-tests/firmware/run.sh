@@ -27,7 +27,7 @@ step "install: Debian's Rust (with its core sources, for -Zbuild-std), lld, QEMU
 # rustup's toolchain cannot add targets here, so the Cortex-M `core` is built from Debian's
 # rust-web-src. /usr/bin/rust-lld dangles unless lld-22 is installed. Installing
 # qemu-system-arm replaces the newer qemu-utils; nothing in this project needs them.
-PKGS=(rustc-web cargo-web rust-web-src rust-web-llvm lld-22 qemu-system-arm cbindgen gcc binutils)
+PKGS=(rustc-web cargo-web rust-web-src rust-web-llvm lld-22 qemu-system-arm cbindgen gcc g++ binutils gcc-arm-none-eabi)
 missing=()
 for p in "${PKGS[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -186,7 +186,7 @@ step "size and stack"
 "$FW_DIR/size.sh" "$REPORT" | tee "$REPORT/size-stack.md"
 
 # ---------------------------------------------------------------------------------------------
-step "C API: header from cbindgen, staticlib, C test built with gcc -ffreestanding"
+step "C API: header from cbindgen (C99, C++), staticlib for the host and Cortex-M, the C test on the host and under QEMU, the smallest C images"
 "$FW_DIR/capi/test.sh"
 
 step "firmware stage done in $(( $(date +%s) - T0 ))s"

@@ -1,3 +1,36 @@
+/*
+ * volsample C API: sampling and compositing of RGBA volumes, from a no_std Rust static library
+ * (libvolsample_capi.a; for Cortex-M see host-tests/firmware/README.md, "C API on Cortex-M").
+ * C99; the header needs only <stdint.h> and <stddef.h>.
+ *
+ * Version: VOLSAMPLE_VERSION (major*10000 + minor*100 + patch) below; vs_version() returns the
+ * linked library's, so `vs_version() == VOLSAMPLE_VERSION` checks that the two match.
+ *
+ * Voxel layout: a volume is `count` voxels of 4 bytes, R, G, B, A in that order in memory
+ * (bytes, so the layout does not depend on byte order), x fastest, then y, then z: the voxel
+ * (x, y, z) starts at byte 4*(x + nx*(y + ny*z)). count must equal nx*ny*nz. Straight
+ * (non-premultiplied) colors for VS_MODE_SEPARATE and VS_MODE_OPACITY_WEIGHTED; premultiplied
+ * colors (each of R, G, B at most A) for VS_MODE_PREWEIGHTED. Positions and ray origins are in
+ * voxel units, voxel centers at integers (voxel (0,0,0) is at 0.0).
+ *
+ * Byte order: every multi-byte field (float, uint16_t, uint32_t, size_t) and every struct is in
+ * the platform's native order and layout; nothing is serialized.
+ *
+ * Ownership: the library keeps no pointer after a call returns, allocates nothing and has no
+ * global state; every function is reentrant and may run on several threads or in interrupts
+ * at once. The caller owns every buffer; inputs are only read.
+ *
+ * Errors: a function that can fail returns int32_t: VS_OK (0), or a negative VS_ERR_* status.
+ * Its result (*out, and *used where there is one) is written only when it returns VS_OK;
+ * on an error the memory behind the out pointers is left untouched. Null pointers are
+ * VS_ERR_NULL, never a crash; the library has no reachable panic (checked by the firmware
+ * stage) and never aborts.
+ *
+ * Size: vs_cast_u8 and vs_int_sample_u8 dispatch at run time and so link every mode x filter;
+ * a firmware image that needs one kernel calls its entry point (vs_cast_u8_<mode>_<filter>,
+ * vs_int_sample_u8_<mode>_<filter>), and the linker's --gc-sections drops the others.
+ */
+
 #ifndef VOLSAMPLE_H
 #define VOLSAMPLE_H
 
@@ -5,6 +38,20 @@
 
 #include <stdint.h>
 #include <stddef.h>
+
+// Major version of this C API (semantic versioning: a change of the ABI or of a function's
+// results raises it once the API is 1.0).
+#define VOLSAMPLE_VERSION_MAJOR 0
+
+// Minor version of this C API.
+#define VOLSAMPLE_VERSION_MINOR 1
+
+// Patch version of this C API.
+#define VOLSAMPLE_VERSION_PATCH 0
+
+// The version as one number, `major·10000 + minor·100 + patch`; compare it with
+// `vs_version()` to catch a header that does not match the linked library.
+#define VOLSAMPLE_VERSION 100
 
 // Success.
 #define VS_OK 0
@@ -112,9 +159,18 @@ typedef struct VsIntSample {
 extern "C" {
 #endif // __cplusplus
 
-// Integrates one ray through a volume of RGBA bytes and composites it over transparent black.
+// The linked library's version, `major·10000 + minor·100 + patch`: equal to the header's
+// `VOLSAMPLE_VERSION` when header and library match.
+uint32_t vs_version(void);
+
+// Integrates one ray through a volume of RGBA bytes and composites it over transparent black,
+// with the mode and filter `march` names (`march->mode`, `march->filter`).
 //
-// Returns `VS_OK` and writes `*out`, or a `VS_ERR_*` status.
+// This entry point links every mode × filter (about 126 KB of Cortex-M4F code); a firmware
+// image that needs one calls its own entry point (`vs_cast_u8_opacity_weighted_trilinear`
+// and the others below), which links only that kernel.
+//
+// Returns `VS_OK` and writes `*out`, or a `VS_ERR_*` status (`*out` untouched).
 //
 // # Safety
 // `vol` and `march` must be valid pointers (or null: `VS_ERR_NULL`), `vol->rgba` must point to
@@ -125,17 +181,204 @@ int32_t vs_cast_u8(const struct VsVolumeU8 *vol,
                    const float *dir,
                    struct VsSample *out);
 
+// `vs_cast_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_NEAREST` only (straight voxels); any
+// other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_separate_nearest(const struct VsVolumeU8 *vol,
+                                    const struct VsMarch *march,
+                                    const float *origin,
+                                    const float *dir,
+                                    struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_TRILINEAR` only (straight voxels); any
+// other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_separate_trilinear(const struct VsVolumeU8 *vol,
+                                      const struct VsMarch *march,
+                                      const float *origin,
+                                      const float *dir,
+                                      struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_TRILINEAR_TREE` only (straight voxels);
+// any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_separate_trilinear_tree(const struct VsVolumeU8 *vol,
+                                           const struct VsMarch *march,
+                                           const float *origin,
+                                           const float *dir,
+                                           struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_TRIQUADRATIC` only (straight voxels);
+// any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_separate_triquadratic(const struct VsVolumeU8 *vol,
+                                         const struct VsMarch *march,
+                                         const float *origin,
+                                         const float *dir,
+                                         struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_NEAREST` only (straight
+// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_opacity_weighted_nearest(const struct VsVolumeU8 *vol,
+                                            const struct VsMarch *march,
+                                            const float *origin,
+                                            const float *dir,
+                                            struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_TRILINEAR` only (straight
+// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_opacity_weighted_trilinear(const struct VsVolumeU8 *vol,
+                                              const struct VsMarch *march,
+                                              const float *origin,
+                                              const float *dir,
+                                              struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_TRILINEAR_TREE` only (straight
+// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_opacity_weighted_trilinear_tree(const struct VsVolumeU8 *vol,
+                                                   const struct VsMarch *march,
+                                                   const float *origin,
+                                                   const float *dir,
+                                                   struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_TRIQUADRATIC` only (straight
+// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_opacity_weighted_triquadratic(const struct VsVolumeU8 *vol,
+                                                 const struct VsMarch *march,
+                                                 const float *origin,
+                                                 const float *dir,
+                                                 struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_NEAREST` only (premultiplied
+// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_preweighted_nearest(const struct VsVolumeU8 *vol,
+                                       const struct VsMarch *march,
+                                       const float *origin,
+                                       const float *dir,
+                                       struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_TRILINEAR` only (premultiplied
+// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_preweighted_trilinear(const struct VsVolumeU8 *vol,
+                                         const struct VsMarch *march,
+                                         const float *origin,
+                                         const float *dir,
+                                         struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_TRILINEAR_TREE` only (premultiplied
+// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_preweighted_trilinear_tree(const struct VsVolumeU8 *vol,
+                                              const struct VsMarch *march,
+                                              const float *origin,
+                                              const float *dir,
+                                              struct VsSample *out);
+
+// `vs_cast_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_TRIQUADRATIC` only (premultiplied
+// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+//
+// # Safety
+// As `vs_cast_u8`.
+int32_t vs_cast_u8_preweighted_triquadratic(const struct VsVolumeU8 *vol,
+                                            const struct VsMarch *march,
+                                            const float *origin,
+                                            const float *dir,
+                                            struct VsSample *out);
+
 // One integer sample at `pos_raw` (voxel units with 8 fractional bits, so `128` is half a
 // voxel), bit-exact with the Rust kernels. Filters: `VS_FILTER_NEAREST`, `VS_FILTER_TRILINEAR`.
 //
+// Links every integer mode × filter; `vs_int_sample_u8_opacity_weighted_trilinear` and the
+// others below link only their own.
+//
 // # Safety
-// As [`vs_cast_u8`]: `vol` valid with its bytes, `pos_raw` 3 readable `uint32_t` (x, y, z), `out`
+// As `vs_cast_u8`: `vol` valid with its bytes, `pos_raw` 3 readable `uint32_t` (x, y, z), `out`
 // writable.
 int32_t vs_int_sample_u8(const struct VsVolumeU8 *vol,
                          uint32_t mode,
                          uint32_t filter,
                          const uint32_t *pos_raw,
                          struct VsIntSample *out);
+
+// `vs_int_sample_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_NEAREST` (straight voxels).
+//
+// # Safety
+// As `vs_int_sample_u8`.
+int32_t vs_int_sample_u8_separate_nearest(const struct VsVolumeU8 *vol,
+                                          const uint32_t *pos_raw,
+                                          struct VsIntSample *out);
+
+// `vs_int_sample_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_TRILINEAR` (straight voxels).
+//
+// # Safety
+// As `vs_int_sample_u8`.
+int32_t vs_int_sample_u8_separate_trilinear(const struct VsVolumeU8 *vol,
+                                            const uint32_t *pos_raw,
+                                            struct VsIntSample *out);
+
+// `vs_int_sample_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_NEAREST` (straight
+// voxels).
+//
+// # Safety
+// As `vs_int_sample_u8`.
+int32_t vs_int_sample_u8_opacity_weighted_nearest(const struct VsVolumeU8 *vol,
+                                                  const uint32_t *pos_raw,
+                                                  struct VsIntSample *out);
+
+// `vs_int_sample_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_TRILINEAR` (straight
+// voxels): the smallest entry point (see the firmware README for its size).
+//
+// # Safety
+// As `vs_int_sample_u8`.
+int32_t vs_int_sample_u8_opacity_weighted_trilinear(const struct VsVolumeU8 *vol,
+                                                    const uint32_t *pos_raw,
+                                                    struct VsIntSample *out);
+
+// `vs_int_sample_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_NEAREST` (premultiplied
+// voxels).
+//
+// # Safety
+// As `vs_int_sample_u8`.
+int32_t vs_int_sample_u8_preweighted_nearest(const struct VsVolumeU8 *vol,
+                                             const uint32_t *pos_raw,
+                                             struct VsIntSample *out);
+
+// `vs_int_sample_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_TRILINEAR` (premultiplied
+// voxels).
+//
+// # Safety
+// As `vs_int_sample_u8`.
+int32_t vs_int_sample_u8_preweighted_trilinear(const struct VsVolumeU8 *vol,
+                                               const uint32_t *pos_raw,
+                                               struct VsIntSample *out);
 
 // Composites `n` integer samples front to back, stopping once the opacity reaches `a_stop`
 // (`VS_INT_ONE` never stops early); writes the composite and, if `used` is not null, the

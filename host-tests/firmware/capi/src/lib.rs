@@ -28,6 +28,47 @@ use volsample::{
     StraightU8, Trilinear, TriquadraticBSpline, Volume,
 };
 
+/// Major version of this C API (semantic versioning: a change of the ABI or of a function's
+/// results raises it once the API is 1.0).
+pub const VOLSAMPLE_VERSION_MAJOR: u32 = 0;
+/// Minor version of this C API.
+pub const VOLSAMPLE_VERSION_MINOR: u32 = 1;
+/// Patch version of this C API.
+pub const VOLSAMPLE_VERSION_PATCH: u32 = 0;
+/// The version as one number, `major·10000 + minor·100 + patch`; compare it with
+/// `vs_version()` to catch a header that does not match the linked library.
+pub const VOLSAMPLE_VERSION: u32 = 100;
+
+/// `s` as a decimal number (a compile-time parser for the package version).
+const fn parse_u32(s: &str) -> u32 {
+    let b = s.as_bytes();
+    let mut i = 0;
+    let mut n = 0u32;
+    while i < b.len() {
+        n = n * 10 + (b[i] - b'0') as u32;
+        i += 1;
+    }
+    n
+}
+const _: () = {
+    assert!(VOLSAMPLE_VERSION_MAJOR == parse_u32(env!("CARGO_PKG_VERSION_MAJOR")));
+    assert!(VOLSAMPLE_VERSION_MINOR == parse_u32(env!("CARGO_PKG_VERSION_MINOR")));
+    assert!(VOLSAMPLE_VERSION_PATCH == parse_u32(env!("CARGO_PKG_VERSION_PATCH")));
+    assert!(
+        VOLSAMPLE_VERSION
+            == VOLSAMPLE_VERSION_MAJOR * 10000
+                + VOLSAMPLE_VERSION_MINOR * 100
+                + VOLSAMPLE_VERSION_PATCH
+    );
+};
+
+/// The linked library's version, `major·10000 + minor·100 + patch`: equal to the header's
+/// `VOLSAMPLE_VERSION` when header and library match.
+#[no_mangle]
+pub extern "C" fn vs_version() -> u32 {
+    VOLSAMPLE_VERSION
+}
+
 /// Success.
 pub const VS_OK: i32 = 0;
 /// A required pointer was null.
@@ -208,10 +249,11 @@ fn to_c_int(s: IntSample) -> VsIntSample {
     VsIntSample { c: s.c(), a: s.a() }
 }
 
-/// Casts one ray with mode `M` over voxels `V`, dispatching filter and order.
-fn cast_mode<V: Voxel, M: Mode<V> + Copy>(
+/// Casts one ray with mode `M` and filter `F` over voxels `V`, dispatching the order.
+fn cast_with<V: Voxel, M: Mode<V> + Copy, F: Filter>(
     vol: Volume<'_, V>,
     mode: M,
+    f: F,
     m: &VsMarch,
     ray: &Ray,
 ) -> Result<Sample, i32> {
@@ -229,37 +271,67 @@ fn cast_mode<V: Voxel, M: Mode<V> + Copy>(
         let marcher = RayMarcher::new(vol, mode, f, o, step).map_err(status)?;
         Ok(marcher.cast(ray))
     }
-    fn filter<V: Voxel, M: Mode<V> + Copy, F: Filter>(
-        vol: Volume<'_, V>,
-        mode: M,
-        f: F,
-        m: &VsMarch,
-        ray: &Ray,
-    ) -> Result<Sample, i32> {
-        match m.order {
-            VS_ORDER_FRONT_TO_BACK if m.a_stop == 1.0 => {
-                go(vol, mode, f, FrontToBack::new(), m, ray)
-            }
-            VS_ORDER_FRONT_TO_BACK => {
-                let o = FrontToBack::with_threshold(m.a_stop).map_err(status)?;
-                go(vol, mode, f, o, m, ray)
-            }
-            VS_ORDER_BACK_TO_FRONT => go(vol, mode, f, BackToFront, m, ray),
-            _ => Err(VS_ERR_ARG),
+    match m.order {
+        VS_ORDER_FRONT_TO_BACK if m.a_stop == 1.0 => go(vol, mode, f, FrontToBack::new(), m, ray),
+        VS_ORDER_FRONT_TO_BACK => {
+            let o = FrontToBack::with_threshold(m.a_stop).map_err(status)?;
+            go(vol, mode, f, o, m, ray)
         }
-    }
-    match m.filter {
-        VS_FILTER_NEAREST => filter(vol, mode, Nearest, m, ray),
-        VS_FILTER_TRILINEAR => filter(vol, mode, Trilinear::new(), m, ray),
-        VS_FILTER_TRILINEAR_TREE => filter(vol, mode, Trilinear::tree(), m, ray),
-        VS_FILTER_TRIQUADRATIC => filter(vol, mode, TriquadraticBSpline, m, ray),
+        VS_ORDER_BACK_TO_FRONT => go(vol, mode, f, BackToFront, m, ray),
         _ => Err(VS_ERR_ARG),
     }
 }
 
-/// Integrates one ray through a volume of RGBA bytes and composites it over transparent black.
+/// What every cast entry point does: check the pointers and that `march` names this entry
+/// point's mode and filter (`ids`), view the voxels as `V`, cast, write `out` on success.
 ///
-/// Returns `VS_OK` and writes `*out`, or a `VS_ERR_*` status.
+/// # Safety
+/// As `vs_cast_u8`.
+unsafe fn cast_entry<V: Voxel, M: Mode<V> + Copy, F: Filter>(
+    (vol, march, origin, dir, out): CastArgs,
+    mode: M,
+    f: F,
+    ids: (u32, u32),
+) -> i32 {
+    // SAFETY: each pointer is null (rejected) or valid by the caller's contract.
+    let (Some(v), Some(m), Some(o), Some(d)) = (
+        unsafe { vol.as_ref() },
+        unsafe { march.as_ref() },
+        unsafe { vec3(origin) },
+        unsafe { vec3(dir) },
+    ) else {
+        return VS_ERR_NULL;
+    };
+    let r = (|| {
+        if (m.mode, m.filter) != ids {
+            return Err(VS_ERR_ARG);
+        }
+        let ray = Ray::new(*o, *d).map_err(status)?;
+        // SAFETY: the caller's contract on `vol->rgba`.
+        let data = unsafe { voxels::<V>(v) }?;
+        cast_with(volume(data, v)?, mode, f, m, &ray)
+    })();
+    // SAFETY: the caller's contract on `out`.
+    unsafe { put(out, r.map(to_c)) }
+}
+
+/// The arguments of a cast: volume, march, origin, direction, out.
+type CastArgs = (
+    *const VsVolumeU8,
+    *const VsMarch,
+    *const f32,
+    *const f32,
+    *mut VsSample,
+);
+
+/// Integrates one ray through a volume of RGBA bytes and composites it over transparent black,
+/// with the mode and filter `march` names (`march->mode`, `march->filter`).
+///
+/// This entry point links every mode × filter (about 126 KB of Cortex-M4F code); a firmware
+/// image that needs one calls its own entry point (`vs_cast_u8_opacity_weighted_trilinear`
+/// and the others below), which links only that kernel.
+///
+/// Returns `VS_OK` and writes `*out`, or a `VS_ERR_*` status (`*out` untouched).
 ///
 /// # Safety
 /// `vol` and `march` must be valid pointers (or null: `VS_ERR_NULL`), `vol->rgba` must point to
@@ -272,66 +344,295 @@ pub unsafe extern "C" fn vs_cast_u8(
     dir: *const f32,
     out: *mut VsSample,
 ) -> i32 {
-    // SAFETY: each pointer is null (rejected) or valid by the caller's contract.
-    let (Some(v), Some(m), Some(o), Some(d)) = (
-        unsafe { vol.as_ref() },
-        unsafe { march.as_ref() },
-        unsafe { vec3(origin) },
-        unsafe { vec3(dir) },
-    ) else {
+    // SAFETY: null (rejected) or valid by the caller's contract.
+    let Some(m) = (unsafe { march.as_ref() }) else {
         return VS_ERR_NULL;
     };
-    let r = (|| {
-        let ray = Ray::new(*o, *d).map_err(status)?;
-        match m.mode {
-            VS_MODE_SEPARATE | VS_MODE_OPACITY_WEIGHTED => {
-                // SAFETY: the caller's contract on `vol->rgba`.
-                let data = unsafe { voxels::<StraightU8>(v) }?;
-                let vol = volume(data, v)?;
-                if m.mode == VS_MODE_SEPARATE {
-                    cast_mode(vol, Separate, m, &ray)
-                } else {
-                    cast_mode(vol, OpacityWeighted, m, &ray)
-                }
-            }
-            VS_MODE_PREWEIGHTED => {
-                // SAFETY: as above.
-                let data = unsafe { voxels::<AssociatedU8>(v) }?;
-                cast_mode(volume(data, v)?, Preweighted, m, &ray)
-            }
-            _ => Err(VS_ERR_ARG),
+    let entry = match (m.mode, m.filter) {
+        (VS_MODE_SEPARATE, VS_FILTER_NEAREST) => vs_cast_u8_separate_nearest,
+        (VS_MODE_SEPARATE, VS_FILTER_TRILINEAR) => vs_cast_u8_separate_trilinear,
+        (VS_MODE_SEPARATE, VS_FILTER_TRILINEAR_TREE) => vs_cast_u8_separate_trilinear_tree,
+        (VS_MODE_SEPARATE, VS_FILTER_TRIQUADRATIC) => vs_cast_u8_separate_triquadratic,
+        (VS_MODE_OPACITY_WEIGHTED, VS_FILTER_NEAREST) => vs_cast_u8_opacity_weighted_nearest,
+        (VS_MODE_OPACITY_WEIGHTED, VS_FILTER_TRILINEAR) => vs_cast_u8_opacity_weighted_trilinear,
+        (VS_MODE_OPACITY_WEIGHTED, VS_FILTER_TRILINEAR_TREE) => {
+            vs_cast_u8_opacity_weighted_trilinear_tree
         }
-    })();
-    // SAFETY: the caller's contract on `out`.
-    unsafe { put(out, r.map(to_c)) }
+        (VS_MODE_OPACITY_WEIGHTED, VS_FILTER_TRIQUADRATIC) => {
+            vs_cast_u8_opacity_weighted_triquadratic
+        }
+        (VS_MODE_PREWEIGHTED, VS_FILTER_NEAREST) => vs_cast_u8_preweighted_nearest,
+        (VS_MODE_PREWEIGHTED, VS_FILTER_TRILINEAR) => vs_cast_u8_preweighted_trilinear,
+        (VS_MODE_PREWEIGHTED, VS_FILTER_TRILINEAR_TREE) => vs_cast_u8_preweighted_trilinear_tree,
+        (VS_MODE_PREWEIGHTED, VS_FILTER_TRIQUADRATIC) => vs_cast_u8_preweighted_triquadratic,
+        _ => return VS_ERR_ARG,
+    };
+    // SAFETY: forwarded unchanged; same contract.
+    unsafe { entry(vol, march, origin, dir, out) }
 }
 
-fn int_filter<V: Voxel, M: IntMode<V>>(
-    vol: Volume<'_, V>,
+/// `vs_cast_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_NEAREST` only (straight voxels); any
+/// other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_separate_nearest(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_SEPARATE, VS_FILTER_NEAREST);
+    // SAFETY: the caller's contract.
+    unsafe {
+        cast_entry::<StraightU8, _, _>((vol, march, origin, dir, out), Separate, Nearest, ids)
+    }
+}
+
+/// `vs_cast_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_TRILINEAR` only (straight voxels); any
+/// other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_separate_trilinear(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_SEPARATE, VS_FILTER_TRILINEAR);
+    let f = Trilinear::new();
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<StraightU8, _, _>((vol, march, origin, dir, out), Separate, f, ids) }
+}
+
+/// `vs_cast_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_TRILINEAR_TREE` only (straight voxels);
+/// any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_separate_trilinear_tree(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_SEPARATE, VS_FILTER_TRILINEAR_TREE);
+    let f = Trilinear::tree();
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<StraightU8, _, _>((vol, march, origin, dir, out), Separate, f, ids) }
+}
+
+/// `vs_cast_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_TRIQUADRATIC` only (straight voxels);
+/// any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_separate_triquadratic(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_SEPARATE, VS_FILTER_TRIQUADRATIC);
+    let f = TriquadraticBSpline;
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<StraightU8, _, _>((vol, march, origin, dir, out), Separate, f, ids) }
+}
+
+/// `vs_cast_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_NEAREST` only (straight
+/// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_opacity_weighted_nearest(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_OPACITY_WEIGHTED, VS_FILTER_NEAREST);
+    let (m, f) = (OpacityWeighted, Nearest);
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<StraightU8, _, _>((vol, march, origin, dir, out), m, f, ids) }
+}
+
+/// `vs_cast_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_TRILINEAR` only (straight
+/// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_opacity_weighted_trilinear(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_OPACITY_WEIGHTED, VS_FILTER_TRILINEAR);
+    let (m, f) = (OpacityWeighted, Trilinear::new());
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<StraightU8, _, _>((vol, march, origin, dir, out), m, f, ids) }
+}
+
+/// `vs_cast_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_TRILINEAR_TREE` only (straight
+/// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_opacity_weighted_trilinear_tree(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_OPACITY_WEIGHTED, VS_FILTER_TRILINEAR_TREE);
+    let (m, f) = (OpacityWeighted, Trilinear::tree());
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<StraightU8, _, _>((vol, march, origin, dir, out), m, f, ids) }
+}
+
+/// `vs_cast_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_TRIQUADRATIC` only (straight
+/// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_opacity_weighted_triquadratic(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_OPACITY_WEIGHTED, VS_FILTER_TRIQUADRATIC);
+    let (m, f) = (OpacityWeighted, TriquadraticBSpline);
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<StraightU8, _, _>((vol, march, origin, dir, out), m, f, ids) }
+}
+
+/// `vs_cast_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_NEAREST` only (premultiplied
+/// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_preweighted_nearest(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_PREWEIGHTED, VS_FILTER_NEAREST);
+    let (m, f) = (Preweighted, Nearest);
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<AssociatedU8, _, _>((vol, march, origin, dir, out), m, f, ids) }
+}
+
+/// `vs_cast_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_TRILINEAR` only (premultiplied
+/// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_preweighted_trilinear(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_PREWEIGHTED, VS_FILTER_TRILINEAR);
+    let (m, f) = (Preweighted, Trilinear::new());
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<AssociatedU8, _, _>((vol, march, origin, dir, out), m, f, ids) }
+}
+
+/// `vs_cast_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_TRILINEAR_TREE` only (premultiplied
+/// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_preweighted_trilinear_tree(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_PREWEIGHTED, VS_FILTER_TRILINEAR_TREE);
+    let (m, f) = (Preweighted, Trilinear::tree());
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<AssociatedU8, _, _>((vol, march, origin, dir, out), m, f, ids) }
+}
+
+/// `vs_cast_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_TRIQUADRATIC` only (premultiplied
+/// voxels); any other `march->mode` or `march->filter` is `VS_ERR_ARG`.
+///
+/// # Safety
+/// As `vs_cast_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_cast_u8_preweighted_triquadratic(
+    vol: *const VsVolumeU8,
+    march: *const VsMarch,
+    origin: *const f32,
+    dir: *const f32,
+    out: *mut VsSample,
+) -> i32 {
+    let ids = (VS_MODE_PREWEIGHTED, VS_FILTER_TRIQUADRATIC);
+    let (m, f) = (Preweighted, TriquadraticBSpline);
+    // SAFETY: the caller's contract.
+    unsafe { cast_entry::<AssociatedU8, _, _>((vol, march, origin, dir, out), m, f, ids) }
+}
+
+/// What every integer sample entry point does: check the pointers, view the voxels as `V`,
+/// sample, write `out` on success.
+///
+/// # Safety
+/// As `vs_int_sample_u8`.
+unsafe fn int_entry<V: Voxel, M: IntMode<V>, F: IntFilter>(
+    vol: *const VsVolumeU8,
+    pos_raw: *const u32,
+    out: *mut VsIntSample,
     mode: M,
-    filter: u32,
-    pos: IntPos<8>,
-) -> Result<IntSample, i32> {
-    fn go<V: Voxel, M: IntMode<V>, F: IntFilter>(
-        vol: Volume<'_, V>,
-        mode: M,
-        f: F,
-        pos: IntPos<8>,
-    ) -> IntSample {
-        IntSampler::new(vol, mode, f).sample(pos)
-    }
-    match filter {
-        VS_FILTER_NEAREST => Ok(go(vol, mode, Nearest, pos)),
-        VS_FILTER_TRILINEAR => Ok(go(vol, mode, Trilinear::new(), pos)),
-        _ => Err(VS_ERR_ARG),
-    }
+    f: F,
+) -> i32 {
+    // SAFETY: null (rejected) or valid by the caller's contract.
+    let (Some(v), Some(p)) = (unsafe { vol.as_ref() }, unsafe { vec3(pos_raw) }) else {
+        return VS_ERR_NULL;
+    };
+    let pos = IntPos::<8>::from_raw(*p);
+    // SAFETY: the caller's contract on `vol->rgba`.
+    let r = unsafe { voxels::<V>(v) }
+        .and_then(|data| volume(data, v))
+        .map(|vol| IntSampler::new(vol, mode, f).sample(pos));
+    // SAFETY: the caller's contract on `out`.
+    unsafe { put(out, r.map(to_c_int)) }
 }
 
 /// One integer sample at `pos_raw` (voxel units with 8 fractional bits, so `128` is half a
 /// voxel), bit-exact with the Rust kernels. Filters: `VS_FILTER_NEAREST`, `VS_FILTER_TRILINEAR`.
 ///
+/// Links every integer mode × filter; `vs_int_sample_u8_opacity_weighted_trilinear` and the
+/// others below link only their own.
+///
 /// # Safety
-/// As [`vs_cast_u8`]: `vol` valid with its bytes, `pos_raw` 3 readable `uint32_t` (x, y, z), `out`
+/// As `vs_cast_u8`: `vol` valid with its bytes, `pos_raw` 3 readable `uint32_t` (x, y, z), `out`
 /// writable.
 #[no_mangle]
 pub unsafe extern "C" fn vs_int_sample_u8(
@@ -341,31 +642,111 @@ pub unsafe extern "C" fn vs_int_sample_u8(
     pos_raw: *const u32,
     out: *mut VsIntSample,
 ) -> i32 {
-    // SAFETY: null (rejected) or valid by the caller's contract.
-    let (Some(v), Some(p)) = (unsafe { vol.as_ref() }, unsafe { vec3(pos_raw) }) else {
-        return VS_ERR_NULL;
+    let entry = match (mode, filter) {
+        (VS_MODE_SEPARATE, VS_FILTER_NEAREST) => vs_int_sample_u8_separate_nearest,
+        (VS_MODE_SEPARATE, VS_FILTER_TRILINEAR) => vs_int_sample_u8_separate_trilinear,
+        (VS_MODE_OPACITY_WEIGHTED, VS_FILTER_NEAREST) => vs_int_sample_u8_opacity_weighted_nearest,
+        (VS_MODE_OPACITY_WEIGHTED, VS_FILTER_TRILINEAR) => {
+            vs_int_sample_u8_opacity_weighted_trilinear
+        }
+        (VS_MODE_PREWEIGHTED, VS_FILTER_NEAREST) => vs_int_sample_u8_preweighted_nearest,
+        (VS_MODE_PREWEIGHTED, VS_FILTER_TRILINEAR) => vs_int_sample_u8_preweighted_trilinear,
+        _ if vol.is_null() || pos_raw.is_null() || out.is_null() => return VS_ERR_NULL,
+        _ => return VS_ERR_ARG,
     };
-    let pos = IntPos::<8>::from_raw(*p);
-    let r = (|| match mode {
-        VS_MODE_SEPARATE | VS_MODE_OPACITY_WEIGHTED => {
-            // SAFETY: the caller's contract on `vol->rgba`.
-            let data = unsafe { voxels::<StraightU8>(v) }?;
-            let vol = volume(data, v)?;
-            if mode == VS_MODE_SEPARATE {
-                int_filter(vol, Separate, filter, pos)
-            } else {
-                int_filter(vol, OpacityWeighted, filter, pos)
-            }
-        }
-        VS_MODE_PREWEIGHTED => {
-            // SAFETY: as above.
-            let data = unsafe { voxels::<AssociatedU8>(v) }?;
-            int_filter(volume(data, v)?, Preweighted, filter, pos)
-        }
-        _ => Err(VS_ERR_ARG),
-    })();
-    // SAFETY: the caller's contract on `out`.
-    unsafe { put(out, r.map(to_c_int)) }
+    // SAFETY: forwarded unchanged; same contract.
+    unsafe { entry(vol, pos_raw, out) }
+}
+
+/// `vs_int_sample_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_NEAREST` (straight voxels).
+///
+/// # Safety
+/// As `vs_int_sample_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_int_sample_u8_separate_nearest(
+    vol: *const VsVolumeU8,
+    pos_raw: *const u32,
+    out: *mut VsIntSample,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe { int_entry::<StraightU8, _, _>(vol, pos_raw, out, Separate, Nearest) }
+}
+
+/// `vs_int_sample_u8` with `VS_MODE_SEPARATE` and `VS_FILTER_TRILINEAR` (straight voxels).
+///
+/// # Safety
+/// As `vs_int_sample_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_int_sample_u8_separate_trilinear(
+    vol: *const VsVolumeU8,
+    pos_raw: *const u32,
+    out: *mut VsIntSample,
+) -> i32 {
+    let f = Trilinear::new();
+    // SAFETY: the caller's contract.
+    unsafe { int_entry::<StraightU8, _, _>(vol, pos_raw, out, Separate, f) }
+}
+
+/// `vs_int_sample_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_NEAREST` (straight
+/// voxels).
+///
+/// # Safety
+/// As `vs_int_sample_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_int_sample_u8_opacity_weighted_nearest(
+    vol: *const VsVolumeU8,
+    pos_raw: *const u32,
+    out: *mut VsIntSample,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe { int_entry::<StraightU8, _, _>(vol, pos_raw, out, OpacityWeighted, Nearest) }
+}
+
+/// `vs_int_sample_u8` with `VS_MODE_OPACITY_WEIGHTED` and `VS_FILTER_TRILINEAR` (straight
+/// voxels): the smallest entry point (see the firmware README for its size).
+///
+/// # Safety
+/// As `vs_int_sample_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_int_sample_u8_opacity_weighted_trilinear(
+    vol: *const VsVolumeU8,
+    pos_raw: *const u32,
+    out: *mut VsIntSample,
+) -> i32 {
+    let f = Trilinear::new();
+    // SAFETY: the caller's contract.
+    unsafe { int_entry::<StraightU8, _, _>(vol, pos_raw, out, OpacityWeighted, f) }
+}
+
+/// `vs_int_sample_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_NEAREST` (premultiplied
+/// voxels).
+///
+/// # Safety
+/// As `vs_int_sample_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_int_sample_u8_preweighted_nearest(
+    vol: *const VsVolumeU8,
+    pos_raw: *const u32,
+    out: *mut VsIntSample,
+) -> i32 {
+    // SAFETY: the caller's contract.
+    unsafe { int_entry::<AssociatedU8, _, _>(vol, pos_raw, out, Preweighted, Nearest) }
+}
+
+/// `vs_int_sample_u8` with `VS_MODE_PREWEIGHTED` and `VS_FILTER_TRILINEAR` (premultiplied
+/// voxels).
+///
+/// # Safety
+/// As `vs_int_sample_u8`.
+#[no_mangle]
+pub unsafe extern "C" fn vs_int_sample_u8_preweighted_trilinear(
+    vol: *const VsVolumeU8,
+    pos_raw: *const u32,
+    out: *mut VsIntSample,
+) -> i32 {
+    let f = Trilinear::new();
+    // SAFETY: the caller's contract.
+    unsafe { int_entry::<AssociatedU8, _, _>(vol, pos_raw, out, Preweighted, f) }
 }
 
 /// Composites `n` integer samples front to back, stopping once the opacity reaches `a_stop`

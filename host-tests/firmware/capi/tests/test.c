@@ -1,15 +1,29 @@
-/* C test of the volsample C API: compiled with `gcc -ffreestanding` (only the freestanding
+/* C test of the volsample C API: compiled as C99 with `-ffreestanding` (only the freestanding
  * headers), linked against the Rust staticlib, checked against known values: Wittenbrink's
  * fig. 4 pair (opacity-weighted stays white, separate bleeds red), exact integer samples,
- * opacity correction's closed form, compositing, the premultiplied-storage rounding, and the
- * error statuses. Exit status 0 only if every check passes. */
+ * opacity correction's closed form, compositing, the premultiplied-storage rounding, the
+ * per-mode entry points against the dispatching ones, the version, and the error statuses
+ * (out untouched on error). Exit status 0 only if every check passes.
+ *
+ * Runs on the host (io_host.c: output through the C library) and on Cortex-M under QEMU
+ * (cortex_m.c: start-up code and semihosting output; see ../test.sh). */
 #include <stdint.h>
 #include <stddef.h>
 #include "volsample.h"
 
-/* Output is the one thing a freestanding program lacks; the test binary is linked with the
- * host C library for it (the staticlib itself needs nothing but memcpy/memset). */
-int printf(const char *fmt, ...);
+/* Writes a NUL-terminated string: io_host.c or cortex_m.c. */
+void vs_test_write(const char *s);
+
+static void put_uint(unsigned n) {
+    char buf[12];
+    char *p = buf + sizeof buf - 1;
+    *p = 0;
+    do {
+        *--p = (char)('0' + n % 10);
+        n /= 10;
+    } while (n != 0);
+    vs_test_write(p);
+}
 
 static int failures = 0;
 static int checks = 0;
@@ -18,7 +32,9 @@ static void check(int ok, const char *what) {
     checks++;
     if (!ok) {
         failures++;
-        printf("FAIL: %s\n", what);
+        vs_test_write("FAIL: ");
+        vs_test_write(what);
+        vs_test_write("\n");
     }
 }
 
@@ -107,6 +123,75 @@ int main(void) {
     check(vs_int_sample_u8(&na, VS_MODE_PREWEIGHTED, VS_FILTER_NEAREST, mid, &s) == VS_ERR_VOLUME,
           "premultiplied color above alpha is VS_ERR_VOLUME");
 
-    printf("%d passed, %d failed\n", checks - failures, failures);
+    /* The version of the header is the version of the library. */
+    check(vs_version() == VOLSAMPLE_VERSION &&
+              VOLSAMPLE_VERSION == VOLSAMPLE_VERSION_MAJOR * 10000 + VOLSAMPLE_VERSION_MINOR * 100 +
+                                       VOLSAMPLE_VERSION_PATCH,
+          "vs_version() == VOLSAMPLE_VERSION");
+
+    /* Out untouched on error. */
+    VsSample sentinel = {{-7.0f, -7.0f, -7.0f}, -7.0f};
+    check(vs_cast_u8(&vol, &bad, origin, dir, &sentinel) == VS_ERR_THRESHOLD && sentinel.a == -7.0f &&
+              sentinel.c[0] == -7.0f,
+          "an error leaves *out untouched (float)");
+    VsIntSample isent = {{7, 7, 7}, 7};
+    check(vs_int_sample_u8(&wrong, VS_MODE_OPACITY_WEIGHTED, VS_FILTER_TRILINEAR, mid, &isent) ==
+                  VS_ERR_VOLUME &&
+              isent.a == 7 && isent.c[2] == 7,
+          "an error leaves *out untouched (integer)");
+
+    /* Each per-mode entry point gives what the dispatching one gives, bit for bit, and refuses
+     * a march naming another mode or filter. A 2x2x2 volume with a premultiplied-valid shell. */
+    const uint8_t cube[32] = {200, 100, 50,  255, 10, 10, 10, 20,  90, 80, 70, 128, 5,  5,  5,  5,
+                              60,  60,  60,  60,  255, 0, 0, 255, 30, 20, 10, 40,  100, 90, 80, 200};
+    const VsVolumeU8 cv = {cube, 8, 2, 2, 2};
+    typedef int32_t (*cast_fn)(const VsVolumeU8 *, const VsMarch *, const float *, const float *,
+                               VsSample *);
+    static const cast_fn casts[3][4] = {
+        {vs_cast_u8_separate_nearest, vs_cast_u8_separate_trilinear, vs_cast_u8_separate_trilinear_tree,
+         vs_cast_u8_separate_triquadratic},
+        {vs_cast_u8_opacity_weighted_nearest, vs_cast_u8_opacity_weighted_trilinear,
+         vs_cast_u8_opacity_weighted_trilinear_tree, vs_cast_u8_opacity_weighted_triquadratic},
+        {vs_cast_u8_preweighted_nearest, vs_cast_u8_preweighted_trilinear,
+         vs_cast_u8_preweighted_trilinear_tree, vs_cast_u8_preweighted_triquadratic},
+    };
+    typedef int32_t (*int_fn)(const VsVolumeU8 *, const uint32_t *, VsIntSample *);
+    static const int_fn ints[3][2] = {
+        {vs_int_sample_u8_separate_nearest, vs_int_sample_u8_separate_trilinear},
+        {vs_int_sample_u8_opacity_weighted_nearest, vs_int_sample_u8_opacity_weighted_trilinear},
+        {vs_int_sample_u8_preweighted_nearest, vs_int_sample_u8_preweighted_trilinear},
+    };
+    const float o2[3] = {-0.7f, 0.3f, 0.6f}, d2[3] = {1.0f, 0.2f, 0.1f};
+    const uint32_t p2[3] = {77, 130, 201};
+    int same = 1, refused = 1, nonzero = 0;
+    for (uint32_t mode = 0; mode < 3; mode++) {
+        for (uint32_t filter = 0; filter < 4; filter++) {
+            const VsMarch m = {mode, filter, VS_ORDER_FRONT_TO_BACK, 0.5f, 0.25f, 1.0f};
+            VsSample a, b;
+            same &= vs_cast_u8(&cv, &m, o2, d2, &a) == VS_OK && casts[mode][filter](&cv, &m, o2, d2, &b) == VS_OK &&
+                    a.a == b.a && a.c[0] == b.c[0] && a.c[1] == b.c[1] && a.c[2] == b.c[2];
+            nonzero += a.a > 0.0f;
+            VsMarch other = m;
+            other.filter = (filter + 1) % 4;
+            refused &= casts[mode][filter](&cv, &other, o2, d2, &b) == VS_ERR_ARG;
+            other = m;
+            other.mode = (mode + 1) % 3;
+            refused &= casts[mode][filter](&cv, &other, o2, d2, &b) == VS_ERR_ARG;
+            if (filter < 2) {
+                VsIntSample x, y;
+                same &= vs_int_sample_u8(&cv, mode, filter, p2, &x) == VS_OK && ints[mode][filter](&cv, p2, &y) == VS_OK &&
+                        x.a == y.a && x.c[0] == y.c[0] && x.c[1] == y.c[1] && x.c[2] == y.c[2];
+                nonzero += x.a > 0;
+            }
+        }
+    }
+    check(same, "every per-mode entry point equals the dispatching one, bit for bit");
+    check(nonzero == 18, "the comparison rays and samples are not transparent");
+    check(refused, "a per-mode entry point refuses another mode or filter (VS_ERR_ARG)");
+
+    put_uint((unsigned)(checks - failures));
+    vs_test_write(" passed, ");
+    put_uint((unsigned)failures);
+    vs_test_write(" failed\n");
     return failures != 0;
 }
