@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Generates reference vectors with `volsample vectors` for every kernel, runs the
-# Verilog-2005 datapaths in this directory against them with Icarus Verilog, checks that
+# Verilog-2005 datapaths in this directory against them with Icarus Verilog (among them the
+# resource-lean sequential vs_ow_ftb_lean, tb_ow_ftb_lean.v), checks that
 # each bench really compares (mutation check), lints with Verilator and, when Verilator is
 # installed, runs the pipelined datapath (vs_ow_ftb_pipe) in a Verilator C++ bench; when
 # Yosys is installed it synthesizes every datapath (synth.sh). Exits non-zero on any
@@ -77,6 +78,7 @@ sources() {
     tb_opacity_correction) s="tb_opacity_correction.v vs_opacity_correction.v" ;;
     tb_extinction) s="tb_extinction.v vs_extinction.v vs_trilinear_weights.v vs_nearest_tap.v" ;;
     tb_ray_march) s="tb_ray_march.v $RAY_MARCH_SRC" ;;
+    tb_ow_ftb_lean) s="tb_ow_ftb_lean.v vs_ow_ftb_lean.v" ;;
   esac
   for f in $s; do printf '%s ' "$RTL/$f"; done
 }
@@ -133,7 +135,10 @@ extinction_nearest|tb_extinction|extinction-weighted-nearest|-Ptb_extinction.NEA
 extinction_trilinear_f12_n17|tb_extinction|extinction-weighted-trilinear-f12-n17|-Ptb_extinction.F=12 -Ptb_extinction.B=4
 extinction_nearest_f4_n4097|tb_extinction|extinction-weighted-nearest-f4-n4097|-Ptb_extinction.F=4 -Ptb_extinction.B=12 -Ptb_extinction.NEAREST=1
 ray_march_trilinear|tb_ray_march|ray-march-opacity-weighted-trilinear|-Ptb_ray_march.NEAREST=0
-ray_march_nearest|tb_ray_march|ray-march-opacity-weighted-nearest|-Ptb_ray_march.NEAREST=1"
+ray_march_nearest|tb_ray_march|ray-march-opacity-weighted-nearest|-Ptb_ray_march.NEAREST=1
+ow_ftb_lean_f8|tb_ow_ftb_lean|opacity-weighted-trilinear|-Ptb_ow_ftb_lean.F=8
+ow_ftb_lean_f4|tb_ow_ftb_lean|opacity-weighted-trilinear-f4|-Ptb_ow_ftb_lean.F=4
+ow_ftb_lean_f12|tb_ow_ftb_lean|opacity-weighted-trilinear-f12|-Ptb_ow_ftb_lean.F=12"
 
 echo "--- simulating (iverilog $(iverilog -V 2>/dev/null | head -1 | awk '{print $4}'))"
 while IFS='|' read -r name top dir params; do
@@ -181,6 +186,7 @@ if command -v verilator >/dev/null; then
   lint() { verilator --lint-only -Wall "$@"; }
   for f in 4 8 12; do
     lint -GF="$f" --top-module vs_ow_trilinear "$RTL/vs_ow_trilinear.v" "$RTL/vs_div255.v"
+    lint -GF="$f" --top-module vs_ow_ftb_lean "$RTL/vs_ow_ftb_lean.v"
     for m in vs_separate_trilinear vs_preweighted_trilinear; do
       lint -GF="$f" --top-module "$m" "$RTL/$m.v" "$RTL/vs_trilinear_weights.v" "$RTL/vs_div255.v"
     done
