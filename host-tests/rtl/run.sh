@@ -3,7 +3,9 @@
 # Verilog-2005 datapaths in this directory against them with Icarus Verilog (among them the
 # resource-lean sequential vs_ow_ftb_lean, tb_ow_ftb_lean.v), checks that
 # each bench really compares (mutation check), lints with Verilator and, when Verilator is
-# installed, runs the pipelined datapath (vs_ow_ftb_pipe) in a Verilator C++ bench; when
+# installed, runs the pipelined datapath (vs_ow_ftb_pipe) in a Verilator C++ bench; checks
+# the manifests with read_vectors.py (every expected word of the composite and sampling
+# kernels recomputed from manifest.json alone, and a flipped word caught); when
 # Yosys is installed it synthesizes every datapath (synth.sh). Exits non-zero on any
 # mismatch, missing PASS line, failed mutation check, lint warning or datapath that stops
 # synthesizing.
@@ -26,6 +28,7 @@ fi
 for tool in iverilog vvp; do
   command -v "$tool" >/dev/null || { echo "run.sh: $tool not found (apt-get install -y iverilog)" >&2; exit 2; }
 done
+command -v python3 >/dev/null || { echo "run.sh: python3 not found (apt-get install -y python3)" >&2; exit 2; }
 
 now() { date +%s.%N; }
 elapsed() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", b - a }'; }
@@ -181,6 +184,34 @@ while IFS='|' read -r name top dir params; do
   fi
 done <<< "$BENCHES"
 
+# The manifest reader: every expected word of the kernels it has an oracle for, recomputed
+# from the inputs with nothing but the manifest; then the same mutation as the benches.
+echo "--- manifest reader (read_vectors.py, $(python3 --version 2>&1)): expected words recomputed from manifest.json alone"
+READER_DIRS="composite-front-to-back opacity-weighted-trilinear opacity-weighted-trilinear-f4
+  opacity-weighted-trilinear-f12 separate-trilinear preweighted-trilinear
+  opacity-weighted-nearest separate-nearest preweighted-nearest"
+NREAD=0
+for d in $READER_DIRS; do
+  python3 "$RTL/read_vectors.py" --check "$OUT/$d" > "$SIM/read_$d.log" 2>&1 || true
+  grep -E '^(MISMATCH|PASS|FAIL)' "$SIM/read_$d.log" | head -25
+  grep -qE "^PASS: .*: $COUNT vectors, 0 mismatches\$" "$SIM/read_$d.log" \
+    || { cat "$SIM/read_$d.log" >&2; echo "run.sh: read_vectors.py --check $d FAILED" >&2; exit 1; }
+  NREAD=$(( NREAD + 1 ))
+done
+for d in composite-front-to-back opacity-weighted-trilinear; do
+  mutate "$OUT/$d/expected.hex" "$SIM/read_$d.mutated.hex" "$LINE"
+  python3 "$RTL/read_vectors.py" --check "$OUT/$d" --expected "$SIM/read_$d.mutated.hex" \
+    > "$SIM/read_$d.mutated.log" 2>&1 || true
+  if grep -qE '^FAIL: .* 1 mismatches$' "$SIM/read_$d.mutated.log" \
+     && grep -q "^MISMATCH vector $(( LINE - 1 )):" "$SIM/read_$d.mutated.log"; then
+    echo "    $d: flipped bit 0 of expected word $(( LINE - 1 )) -> the reader FAILS as it must: $(grep '^FAIL' "$SIM/read_$d.mutated.log")"
+  else
+    echo "run.sh: mutation check FAILED for read_vectors.py on $d" >&2
+    cat "$SIM/read_$d.mutated.log" >&2
+    exit 1
+  fi
+done
+
 if command -v verilator >/dev/null; then
   echo "--- verilator --lint-only -Wall ($(verilator --version | awk '{print $2}'))"
   lint() { verilator --lint-only -Wall "$@"; }
@@ -245,4 +276,4 @@ elif command -v yosys >/dev/null; then
 else
   echo "--- yosys not installed: synthesis skipped"
 fi
-echo "--- HDL vectors: PASS ($nk kernels x $COUNT vectors generated; $RUNS bench runs, 0 mismatches; $RUNS mutation checks caught; $PIPE_NOTE; $SYNTH_NOTE; $(( $(date +%s) - T_START )) s)"
+echo "--- HDL vectors: PASS ($nk kernels x $COUNT vectors generated; $RUNS bench runs, 0 mismatches; $RUNS mutation checks caught; manifest reader on $NREAD vector sets, 2 mutations caught; $PIPE_NOTE; $SYNTH_NOTE; $(( $(date +%s) - T_START )) s)"
