@@ -234,6 +234,11 @@ if command -v verilator >/dev/null; then
   lint --top-module vs_composite_ftb "$RTL/vs_composite_ftb.v" "$RTL/vs_div255.v"
   lint --top-module vs_downsample_ob "$RTL/vs_downsample_ob.v" "$RTL/vs_div255.v"
   lint --top-module vs_opacity_correction "$RTL/vs_opacity_correction.v"
+  # The place-and-route tops of synth.sh (several modules in one file, hence DECLFILENAME).
+  for top in pnr_ow_ftb_lean pnr_ow_nearest pnr_preweighted_nearest pnr_composite_ftb; do
+    lint -Wno-DECLFILENAME --top-module "$top" "$RTL/pnr_top.v" "$RTL/vs_ow_ftb_lean.v" "$RTL/vs_ow_nearest.v" \
+      "$RTL/vs_preweighted_nearest.v" "$RTL/vs_composite_ftb.v" "$RTL/vs_nearest_tap.v" "$RTL/vs_div255.v"
+  done
   echo "    clean"
 else
   echo "--- verilator not installed: lint skipped"
