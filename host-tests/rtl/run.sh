@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Generates reference vectors with `volsample vectors` for every kernel, runs the
-# Verilog-2005 datapaths in this directory against them with Icarus Verilog, checks that
+# Verilog-2005 datapaths in this directory against them with Icarus Verilog (among them the
+# resource-lean sequential vs_ow_ftb_lean, tb_ow_ftb_lean.v), checks that
 # each bench really compares (mutation check), lints with Verilator and, when Verilator is
-# installed, runs the pipelined datapath (vs_ow_ftb_pipe) in a Verilator C++ bench; when
+# installed, runs the pipelined datapath (vs_ow_ftb_pipe) in a Verilator C++ bench; checks
+# the manifests with read_vectors.py (every expected word of the composite and sampling
+# kernels recomputed from manifest.json alone, and a flipped word caught); when
 # Yosys is installed it synthesizes every datapath (synth.sh). Exits non-zero on any
 # mismatch, missing PASS line, failed mutation check, lint warning or datapath that stops
 # synthesizing.
@@ -25,6 +28,7 @@ fi
 for tool in iverilog vvp; do
   command -v "$tool" >/dev/null || { echo "run.sh: $tool not found (apt-get install -y iverilog)" >&2; exit 2; }
 done
+command -v python3 >/dev/null || { echo "run.sh: python3 not found (apt-get install -y python3)" >&2; exit 2; }
 
 now() { date +%s.%N; }
 elapsed() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", b - a }'; }
@@ -77,6 +81,7 @@ sources() {
     tb_opacity_correction) s="tb_opacity_correction.v vs_opacity_correction.v" ;;
     tb_extinction) s="tb_extinction.v vs_extinction.v vs_trilinear_weights.v vs_nearest_tap.v" ;;
     tb_ray_march) s="tb_ray_march.v $RAY_MARCH_SRC" ;;
+    tb_ow_ftb_lean) s="tb_ow_ftb_lean.v vs_ow_ftb_lean.v" ;;
   esac
   for f in $s; do printf '%s ' "$RTL/$f"; done
 }
@@ -133,7 +138,10 @@ extinction_nearest|tb_extinction|extinction-weighted-nearest|-Ptb_extinction.NEA
 extinction_trilinear_f12_n17|tb_extinction|extinction-weighted-trilinear-f12-n17|-Ptb_extinction.F=12 -Ptb_extinction.B=4
 extinction_nearest_f4_n4097|tb_extinction|extinction-weighted-nearest-f4-n4097|-Ptb_extinction.F=4 -Ptb_extinction.B=12 -Ptb_extinction.NEAREST=1
 ray_march_trilinear|tb_ray_march|ray-march-opacity-weighted-trilinear|-Ptb_ray_march.NEAREST=0
-ray_march_nearest|tb_ray_march|ray-march-opacity-weighted-nearest|-Ptb_ray_march.NEAREST=1"
+ray_march_nearest|tb_ray_march|ray-march-opacity-weighted-nearest|-Ptb_ray_march.NEAREST=1
+ow_ftb_lean_f8|tb_ow_ftb_lean|opacity-weighted-trilinear|-Ptb_ow_ftb_lean.F=8
+ow_ftb_lean_f4|tb_ow_ftb_lean|opacity-weighted-trilinear-f4|-Ptb_ow_ftb_lean.F=4
+ow_ftb_lean_f12|tb_ow_ftb_lean|opacity-weighted-trilinear-f12|-Ptb_ow_ftb_lean.F=12"
 
 echo "--- simulating (iverilog $(iverilog -V 2>/dev/null | head -1 | awk '{print $4}'))"
 while IFS='|' read -r name top dir params; do
@@ -176,11 +184,40 @@ while IFS='|' read -r name top dir params; do
   fi
 done <<< "$BENCHES"
 
+# The manifest reader: every expected word of the kernels it has an oracle for, recomputed
+# from the inputs with nothing but the manifest; then the same mutation as the benches.
+echo "--- manifest reader (read_vectors.py, $(python3 --version 2>&1)): expected words recomputed from manifest.json alone"
+READER_DIRS="composite-front-to-back opacity-weighted-trilinear opacity-weighted-trilinear-f4
+  opacity-weighted-trilinear-f12 separate-trilinear preweighted-trilinear
+  opacity-weighted-nearest separate-nearest preweighted-nearest"
+NREAD=0
+for d in $READER_DIRS; do
+  python3 "$RTL/read_vectors.py" --check "$OUT/$d" > "$SIM/read_$d.log" 2>&1 || true
+  grep -E '^(MISMATCH|PASS|FAIL)' "$SIM/read_$d.log" | head -25
+  grep -qE "^PASS: .*: $COUNT vectors, 0 mismatches\$" "$SIM/read_$d.log" \
+    || { cat "$SIM/read_$d.log" >&2; echo "run.sh: read_vectors.py --check $d FAILED" >&2; exit 1; }
+  NREAD=$(( NREAD + 1 ))
+done
+for d in composite-front-to-back opacity-weighted-trilinear; do
+  mutate "$OUT/$d/expected.hex" "$SIM/read_$d.mutated.hex" "$LINE"
+  python3 "$RTL/read_vectors.py" --check "$OUT/$d" --expected "$SIM/read_$d.mutated.hex" \
+    > "$SIM/read_$d.mutated.log" 2>&1 || true
+  if grep -qE '^FAIL: .* 1 mismatches$' "$SIM/read_$d.mutated.log" \
+     && grep -q "^MISMATCH vector $(( LINE - 1 )):" "$SIM/read_$d.mutated.log"; then
+    echo "    $d: flipped bit 0 of expected word $(( LINE - 1 )) -> the reader FAILS as it must: $(grep '^FAIL' "$SIM/read_$d.mutated.log")"
+  else
+    echo "run.sh: mutation check FAILED for read_vectors.py on $d" >&2
+    cat "$SIM/read_$d.mutated.log" >&2
+    exit 1
+  fi
+done
+
 if command -v verilator >/dev/null; then
   echo "--- verilator --lint-only -Wall ($(verilator --version | awk '{print $2}'))"
   lint() { verilator --lint-only -Wall "$@"; }
   for f in 4 8 12; do
     lint -GF="$f" --top-module vs_ow_trilinear "$RTL/vs_ow_trilinear.v" "$RTL/vs_div255.v"
+    lint -GF="$f" --top-module vs_ow_ftb_lean "$RTL/vs_ow_ftb_lean.v"
     for m in vs_separate_trilinear vs_preweighted_trilinear; do
       lint -GF="$f" --top-module "$m" "$RTL/$m.v" "$RTL/vs_trilinear_weights.v" "$RTL/vs_div255.v"
     done
@@ -197,6 +234,11 @@ if command -v verilator >/dev/null; then
   lint --top-module vs_composite_ftb "$RTL/vs_composite_ftb.v" "$RTL/vs_div255.v"
   lint --top-module vs_downsample_ob "$RTL/vs_downsample_ob.v" "$RTL/vs_div255.v"
   lint --top-module vs_opacity_correction "$RTL/vs_opacity_correction.v"
+  # The place-and-route tops of synth.sh (several modules in one file, hence DECLFILENAME).
+  for top in pnr_ow_ftb_lean pnr_ow_nearest pnr_preweighted_nearest pnr_composite_ftb; do
+    lint -Wno-DECLFILENAME --top-module "$top" "$RTL/pnr_top.v" "$RTL/vs_ow_ftb_lean.v" "$RTL/vs_ow_nearest.v" \
+      "$RTL/vs_preweighted_nearest.v" "$RTL/vs_composite_ftb.v" "$RTL/vs_nearest_tap.v" "$RTL/vs_div255.v"
+  done
   echo "    clean"
 else
   echo "--- verilator not installed: lint skipped"
@@ -239,4 +281,4 @@ elif command -v yosys >/dev/null; then
 else
   echo "--- yosys not installed: synthesis skipped"
 fi
-echo "--- HDL vectors: PASS ($nk kernels x $COUNT vectors generated; $RUNS bench runs, 0 mismatches; $RUNS mutation checks caught; $PIPE_NOTE; $SYNTH_NOTE; $(( $(date +%s) - T_START )) s)"
+echo "--- HDL vectors: PASS ($nk kernels x $COUNT vectors generated; $RUNS bench runs, 0 mismatches; $RUNS mutation checks caught; manifest reader on $NREAD vector sets, 2 mutations caught; $PIPE_NOTE; $SYNTH_NOTE; $(( $(date +%s) - T_START )) s)"

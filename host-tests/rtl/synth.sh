@@ -6,6 +6,11 @@
 # into DSP blocks are not counted) and carry cells. Exits non-zero if any datapath fails to
 # synthesize (or maps to no cells at all).
 #
+# With nextpnr-ice40 installed it also places and routes the datapaths that fit an iCE40
+# UP5K (8 SB_MAC16, 5 280 LUT4; package sg48) in the register-wrapped tops of pnr_top.v
+# (fixed seed) and prints the logic cells, DSP blocks and the Fmax nextpnr reports; it fails
+# if one of them no longer places and routes.
+#
 # The datapaths with ROM tables and 64-bit-ratio products (opacity correction, extinction,
 # ray march) take minutes each to map; by default they are only elaborated and coarsely
 # synthesized (`synth -run :fine`, then `check -assert`: they must still synthesize, in
@@ -42,7 +47,8 @@ separate_nearest_f8|vs_separate_nearest|F=8|vs_separate_nearest.v vs_nearest_tap
 preweighted_nearest_f8|vs_preweighted_nearest|F=8|vs_preweighted_nearest.v vs_nearest_tap.v|-
 composite_ftb|vs_composite_ftb||vs_composite_ftb.v vs_div255.v|-
 downsample_ob|vs_downsample_ob||vs_downsample_ob.v vs_div255.v|-
-ow_ftb_pipe_f8|vs_ow_ftb_pipe|F=8|vs_ow_ftb_pipe.v vs_div255.v|-"
+ow_ftb_pipe_f8|vs_ow_ftb_pipe|F=8|vs_ow_ftb_pipe.v vs_div255.v|-
+ow_ftb_lean_f8|vs_ow_ftb_lean|F=8|vs_ow_ftb_lean.v|-"
 if [ -n "$VEC" ]; then
   DESIGNS="$DESIGNS
 opacity_correction|vs_opacity_correction||vs_opacity_correction.v|opacity-correction
@@ -51,6 +57,39 @@ extinction_nearest_f8|vs_extinction|F=8 NEAREST=1|vs_extinction.v vs_trilinear_w
 ray_march_trilinear_f8|vs_ray_march|F=8 NEAREST=0|vs_ray_march.v vs_ow_trilinear.v vs_ow_nearest.v vs_nearest_tap.v vs_opacity_correction.v vs_composite_ftb.v vs_div255.v|opacity-correction
 ray_march_nearest_f8|vs_ray_march|F=8 NEAREST=1|vs_ray_march.v vs_ow_trilinear.v vs_ow_nearest.v vs_nearest_tap.v vs_opacity_correction.v vs_composite_ftb.v vs_div255.v|opacity-correction"
 fi
+
+# Place and route on an iCE40 UP5K (nextpnr-ice40 --up5k --package sg48, fixed seed, target
+# PNR_FREQ MHz, default 48; the reported Fmax is that of the placed and routed design): the
+# datapaths that fit one, each in its top of pnr_top.v (ports behind shift registers, so the
+# timing is register to register). name (top pnr_NAME)|synth_ice40 options|sources|all: with
+# --all only (vs_composite_ftb: its four 16x16 products and four /255 multiply-shifts need
+# 20 SB_MAC16, so it is mapped without -dsp, in LUTs, and nextpnr takes over a minute).
+PNR="ow_ftb_lean|-dsp|vs_ow_ftb_lean.v|
+preweighted_nearest|-dsp|vs_preweighted_nearest.v vs_nearest_tap.v|
+ow_nearest||vs_ow_nearest.v vs_nearest_tap.v vs_div255.v|
+composite_ftb||vs_composite_ftb.v vs_div255.v|all"
+PNR_FREQ="${PNR_FREQ:-48}"
+PNR_SEED=1
+# pnr NAME OPTIONS SOURCES: Yosys then nextpnr; log in $OUT/NAME.pnr.log.
+pnr() {
+  local name="$1" opts="$2" src="$3" files=" $RTL/pnr_top.v" s
+  for s in $src; do files="$files $RTL/$s"; done
+  if ! yosys -q -l "$OUT/pnr_$name.yosys.log" \
+        -p "read_verilog$files; synth_ice40 $opts -flatten -top pnr_$name -json $OUT/pnr_$name.json" \
+        > /dev/null 2>&1; then
+    echo "synth.sh: pnr_$name failed to synthesize (log: $OUT/pnr_$name.yosys.log)" >&2
+    return 1
+  fi
+  local t0
+  t0=$(date +%s.%N)
+  if ! nextpnr-ice40 --up5k --package sg48 --pcf-allow-unconstrained --seed "$PNR_SEED" \
+        --freq "$PNR_FREQ" --timing-allow-fail --json "$OUT/pnr_$name.json" \
+        -l "$OUT/pnr_$name.pnr.log" > /dev/null 2>&1; then
+    echo "synth.sh: pnr_$name failed to place and route on an UP5K (log: $OUT/pnr_$name.pnr.log)" >&2
+    return 1
+  fi
+  awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.0f\n", b - a }' > "$OUT/pnr_$name.secs"
+}
 
 # run NAME TOP PARAMS SOURCES TABLES TARGET: one Yosys run, statistics in $OUT/NAME.TARGET.stat.
 run() {
@@ -95,6 +134,18 @@ while IFS='|' read -r name top params src tables; do
     while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n || true; done
   done
 done <<< "$DESIGNS"
+HAVE_PNR=0
+if command -v nextpnr-ice40 >/dev/null; then
+  HAVE_PNR=1
+  [ "$ALL" = 1 ] || PNR=$(grep -v '|all$' <<< "$PNR")
+  if [ -n "${SYNTH_ONLY:-}" ]; then PNR=$(grep -E "^(${SYNTH_ONLY})\|" <<< "$PNR" || true); fi
+  while IFS='|' read -r name opts src _; do
+    [ -n "$name" ] || continue
+    pnr "$name" "$opts" "$src" &
+    pids+=("$!")
+    while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n || true; done
+  done <<< "$PNR"
+fi
 failed=0
 for p in "${pids[@]}"; do wait "$p" || failed=1; done
 
@@ -116,5 +167,24 @@ while IFS='|' read -r name top params src tables; do
     printf '%-26s %-6s %7s %5s %7s %5s %6s\n' "$name" "$target" "$cells" "$dsp" "$lut" "$ff" "$carry"
   done
 done <<< "$DESIGNS"
-echo "($(yosys -V | awk '{print $1, $2}'); $(( $(date +%s) - t0 )) s; logs in $OUT)"
+if [ "$HAVE_PNR" = 1 ]; then
+  echo "place and route, iCE40 UP5K sg48 (nextpnr-ice40 --seed $PNR_SEED --freq $PNR_FREQ; ports registered, see pnr_top.v):"
+  printf '%-26s %-5s %10s %8s %10s %6s\n' top synth LC DSP Fmax/MHz "pnr s"
+  while IFS='|' read -r name opts src _; do
+    [ -n "$name" ] || continue
+    log="$OUT/pnr_$name.pnr.log" fmax="" lc=- dsp=- secs=-
+    if [ -s "$OUT/pnr_$name.secs" ]; then
+      # The last Fmax line is the routed design's; LC and DSP from the utilisation report.
+      fmax=$(sed -n "s/.*Max frequency for clock '[^']*': \([0-9.]*\) MHz.*/\1/p" "$log" | tail -1)
+      lc=$(sed -n 's/.*ICESTORM_LC: *\([0-9]*\)\/ *\([0-9]*\).*/\1\/\2/p' "$log" | tail -1)
+      dsp=$(sed -n 's/.*ICESTORM_DSP: *\([0-9]*\)\/ *\([0-9]*\).*/\1\/\2/p' "$log" | tail -1)
+      secs=$(cat "$OUT/pnr_$name.secs")
+    fi
+    if [ -z "$fmax" ]; then failed=1; fmax=FAILED; fi
+    printf '%-26s %-5s %10s %8s %10s %6s\n' "pnr_$name" "${opts:-lut}" "$lc" "$dsp" "$fmax" "$secs"
+  done <<< "$PNR"
+else
+  echo "(nextpnr-ice40 not installed: no place and route, no Fmax)"
+fi
+echo "($(yosys -V | awk '{print $1, $2}'); $(command -v nextpnr-ice40 >/dev/null && nextpnr-ice40 --version 2>&1 | sed -n 's/.*(Version \(.*\))/nextpnr-ice40 \1/p'); $(( $(date +%s) - t0 )) s; logs in $OUT)"
 exit "$failed"

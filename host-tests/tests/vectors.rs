@@ -1084,3 +1084,53 @@ fn manifests_are_self_contained_with_one_name_per_field() {
         }
     }
 }
+
+/// `host-tests/rtl/read_vectors.py` (the stdlib-only reader run by the RTL stage) decodes the
+/// files from their manifest alone and recomputes every expected word; a flipped expected
+/// bit must be reported as exactly that one mismatch. Needs `python3` (as `rtl/run.sh`).
+#[test]
+fn python_manifest_reader_recomputes_the_expected_words() {
+    let reader = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("rtl/read_vectors.py");
+    let run = |dir: &std::path::Path, expected: Option<&std::path::Path>| {
+        let mut cmd = Command::new("python3");
+        cmd.arg(&reader).arg("--check").arg(dir);
+        if let Some(e) = expected {
+            cmd.arg("--expected").arg(e);
+        }
+        let out = cmd
+            .output()
+            .expect("python3 runs host-tests/rtl/read_vectors.py (install python3)");
+        (
+            out.status.success(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+        )
+    };
+    for (kernel, f) in [
+        (Kernel::Composite, 8),
+        (
+            Kernel::Sample(SampleMode::OpacityWeighted, SampleFilter::Trilinear),
+            5,
+        ),
+        (
+            Kernel::Sample(SampleMode::Separate, SampleFilter::Nearest),
+            11,
+        ),
+    ] {
+        let dir = Scratch::new(&format!("python-{}", kernel.name()));
+        write(&build(&spec(kernel, 600, 9, f)).unwrap(), &dir.0).unwrap();
+        let (ok, text) = run(&dir.0, None);
+        assert!(ok, "{}: {text}", kernel.name());
+        assert!(text.contains(": 600 vectors, 0 mismatches"), "{text}");
+        // Bit 0 of expected word 500 flipped: the reader must report that word and no other.
+        let words = std::fs::read_to_string(dir.0.join(vectors::EXPECTED_FILE)).unwrap();
+        let mut lines: Vec<String> = words.lines().map(String::from).collect();
+        let last = lines[500].pop().unwrap().to_digit(16).unwrap() ^ 1;
+        lines[500].push(char::from_digit(last, 16).unwrap());
+        let mutated = dir.0.join("mutated.hex");
+        std::fs::write(&mutated, lines.join("\n") + "\n").unwrap();
+        let (ok, text) = run(&dir.0, Some(&mutated));
+        assert!(!ok, "{}: {text}", kernel.name());
+        assert!(text.contains("MISMATCH vector 500:"), "{text}");
+        assert!(text.contains(": 600 vectors, 1 mismatches"), "{text}");
+    }
+}
