@@ -11,8 +11,9 @@
 # synthesizing.
 #
 # Environment: VECTORS_COUNT (default 10000, at least 10000), VECTORS_SEED (default 1),
-# VECTORS_OUT (default target/hdl-vectors), CARGO_TARGET_DIR as usual; SYNTH=0 skips the
-# synthesis step, SYNTH_JOBS (default 2) parallel Yosys runs.
+# VECTORS_OUT (default target/hdl-vectors), CARGO_TARGET_DIR as usual; VOLSAMPLE_BIN, a
+# `volsample` binary already built (CI passes the test stage's), else it is built here;
+# SYNTH=0 skips the synthesis step, SYNTH_JOBS (default 2) parallel Yosys runs.
 set -euo pipefail
 RTL="$(cd "$(dirname "$0")" && pwd)"
 cd "$RTL/../.."
@@ -33,9 +34,14 @@ command -v python3 >/dev/null || { echo "run.sh: python3 not found (apt-get inst
 now() { date +%s.%N; }
 elapsed() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", b - a }'; }
 # The CLI, built once (`cargo run --release -q -- vectors ...` per kernel would re-check the
-# build for every kernel).
-cargo build --release -q -p volsample-host --bin volsample
-BIN="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)/release/volsample"
+# build for every kernel), unless VOLSAMPLE_BIN names one.
+if [ -n "${VOLSAMPLE_BIN:-}" ]; then
+  BIN="$(cd "$(dirname "$VOLSAMPLE_BIN")" && pwd)/$(basename "$VOLSAMPLE_BIN")"
+  [ -x "$BIN" ] || { echo "run.sh: VOLSAMPLE_BIN=$VOLSAMPLE_BIN is not an executable" >&2; exit 2; }
+else
+  cargo build --release -q -p volsample-host --bin volsample
+  BIN="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)/release/volsample"
+fi
 vectors() { "$BIN" vectors "$@"; }
 
 echo "--- generating $COUNT vectors per kernel (seed $SEED) into $OUT"

@@ -1,25 +1,44 @@
 //! Host side of volsample: the independent f64 reference model, the tolerance table, and the
 //! pieces the `volsample` CLI and the tests share.
+//!
+//! Without the default feature `app` only the models remain (`reference`, `int_model`,
+//! `tolerance`, `float_checks`, `checks`), with no dependency beyond the core, `arbitrary` and
+//! std: the fuzz targets build it so.
 
 pub mod checks;
+#[cfg(feature = "app")]
 pub mod demo;
+#[cfg(feature = "app")]
 pub mod edge_cases;
+#[cfg(feature = "app")]
 pub mod filters;
 pub mod float_checks;
+#[cfg(feature = "app")]
 pub mod images;
 pub mod int_model;
+#[cfg(feature = "app")]
 pub mod isa;
+#[cfg(feature = "app")]
 pub mod kraus;
+#[cfg(feature = "app")]
 pub mod out;
+#[cfg(feature = "app")]
 pub mod pipeline;
+#[cfg(feature = "app")]
 pub mod plot;
 pub mod reference;
+#[cfg(feature = "app")]
 pub mod report;
+#[cfg(feature = "app")]
 pub mod scene;
+#[cfg(feature = "app")]
 pub mod strategies;
 pub mod tolerance;
+#[cfg(feature = "app")]
 pub mod vectors;
+#[cfg(feature = "app")]
 pub mod view;
+#[cfg(feature = "app")]
 pub mod yardstick;
 
 #[cfg(doctest)]
