@@ -16,7 +16,7 @@
 # synthesized (`synth -run :fine`, then `check -assert`: they must still synthesize, in
 # seconds; row "coarse", word-level cells), and mapped with --all (figures in README.md).
 # (With Yosys 0.23, --all stops on vs_ray_march for iCE40: an internal assertion in its
-# DSP inference, see README.md.)
+# DSP inference; README.md gives those two rows as mapped by Yosys 0.70 and how.)
 #
 # Usage: synth.sh [--all] [VECTORS_DIR]. VECTORS_DIR is run.sh's vector directory: the
 # datapaths with ROM tables read them ($readmemh) from its opacity-correction and
