@@ -117,6 +117,7 @@ fn bench(c: &mut Criterion) {
             56.0,
         ),
         image: [W, W],
+        continuous: None,
     };
     let prepared = scene.prepare().unwrap();
     let method = Method {

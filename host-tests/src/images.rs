@@ -1,4 +1,4 @@
-//! Writing images: rendered pixels, error images, histogram-equalised error images.
+//! Writing images: rendered pixels (enlarged where small), error images, labelled strips.
 
 use std::path::Path;
 
@@ -24,6 +24,30 @@ pub fn write_rgb(path: &Path, width: usize, height: usize, rgb: &[[f32; 3]]) -> 
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// [`write_rgb`] of the image enlarged `k` times (each pixel a `k × k` block), so that a
+/// small frame shows at a size a person can see.
+///
+/// # Errors
+/// As [`write_rgb`].
+pub fn write_rgb_scaled(
+    path: &Path,
+    width: usize,
+    height: usize,
+    rgb: &[[f32; 3]],
+    k: usize,
+) -> Result<(), String> {
+    let k = k.max(1);
+    let mut big = Vec::with_capacity(width * height * k * k);
+    for row in rgb.chunks(width.max(1)).take(height) {
+        for _ in 0..k {
+            for p in row {
+                big.extend(std::iter::repeat_n(*p, k));
+            }
+        }
+    }
+    write_rgb(path, width * k, height * k, &big)
+}
+
 /// The displayed color of a composited pixel (its associated color; the scenes composite
 /// over an opaque background, so this is what a screen shows).
 pub fn display(p: &Sample) -> [f32; 3] {
@@ -41,23 +65,6 @@ pub fn error_map(a: &[[f32; 3]], b: &[[f32; 3]]) -> Vec<f32> {
 /// An error map as a grey image, amplified `gain` times (as the paper's difference images).
 pub fn error_image(err: &[f32], gain: f32) -> Vec<[f32; 3]> {
     err.iter().map(|&e| [(e * gain).min(1.0); 3]).collect()
-}
-
-/// An error map histogram-equalised (as the paper's fig. 12): each pixel's grey level is the
-/// fraction of pixels with a smaller error, so the structure of small errors shows.
-pub fn equalised_error_image(err: &[f32]) -> Vec<[f32; 3]> {
-    let mut sorted: Vec<f32> = err.to_vec();
-    sorted.sort_by(f32::total_cmp);
-    let n = sorted.len().max(1) as f32;
-    err.iter()
-        .map(|&e| {
-            if e <= 0.0 {
-                return [0.0; 3];
-            }
-            let rank = sorted.partition_point(|&x| x < e) as f32;
-            [rank / n; 3]
-        })
-        .collect()
 }
 
 /// Height of the label bar above each panel of [`write_panels`], pixels.

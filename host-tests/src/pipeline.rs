@@ -235,8 +235,10 @@ pub trait Frames {
     /// [`volsample::Error::ImageSizeMismatch`] unless `pixels` holds `width·height` pixels.
     fn frame(&self, pixels: &mut [Sample]) -> Result<(), volsample::Error>;
 
-    /// The number of samples a frame takes, early termination included (each ray cast once
-    /// more, one at a time, to count them: not part of a frame's time).
+    /// The number of samples a frame takes, early termination included (not part of a
+    /// frame's time): without early termination each ray's sample count
+    /// (`sample_range`, which `cast_counted` returns for a ray that does not stop), else each
+    /// ray cast once more, one at a time, to count them.
     fn samples(&self) -> u64;
 }
 
@@ -255,6 +257,8 @@ struct FloatFrames<'v, V, M, F, O> {
     marcher: RayMarcher<'v, V, M, F, O>,
     cam: Cam,
     image: [usize; 2],
+    /// Early termination is on.
+    stops: bool,
 }
 
 impl<V: Voxel, M: Mode<V>, F: Filter, O: volsample::composite::Order> Frames
@@ -271,7 +275,11 @@ impl<V: Voxel, M: Mode<V>, F: Filter, O: volsample::composite::Order> Frames
 
     fn samples(&self) -> u64 {
         count(&self.cam, self.image, |ray| {
-            self.marcher.cast_counted(ray).1
+            if self.stops {
+                self.marcher.cast_counted(ray).1
+            } else {
+                self.marcher.sample_range(ray).1
+            }
         })
     }
 }
@@ -280,6 +288,8 @@ struct IntFrames<'v, V, M, Fl> {
     marcher: IntRayMarcher<'v, V, M, Fl, INT_FRAC_BITS>,
     cam: Cam,
     image: [usize; 2],
+    /// Early termination is on.
+    stops: bool,
 }
 
 impl<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter> Frames
@@ -301,7 +311,11 @@ impl<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter> Frames
 
     fn samples(&self) -> u64 {
         count(&self.cam, self.image, |ray| {
-            self.marcher.cast_counted(ray).1
+            if self.stops {
+                self.marcher.cast_counted(ray).1
+            } else {
+                self.marcher.sample_range(ray).1
+            }
         })
     }
 }
@@ -346,6 +360,7 @@ fn float_build<V: Voxel, M: Mode<V> + Copy, F: Filter, T>(
             marcher,
             cam,
             image,
+            stops: scene.a_stop < 1.0,
         }))
     } else {
         let marcher = RayMarcher::new(vol, mode, filter, FrontToBack::new(), step)?
@@ -355,6 +370,7 @@ fn float_build<V: Voxel, M: Mode<V> + Copy, F: Filter, T>(
             marcher,
             cam,
             image,
+            stops: scene.a_stop < 1.0,
         }))
     }
 }
@@ -384,6 +400,7 @@ fn int_build<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter, T
         marcher,
         cam: Cam::new(&scene.camera)?,
         image: scene.image,
+        stops: scene.a_stop < 1.0,
     }))
 }
 

@@ -3,6 +3,7 @@
 use volsample::shade::Light;
 use volsample::{ControlPoint, Sample, StraightF32};
 
+use super::continuous::Continuous;
 use super::{Classification, Scene, VolumeData};
 use crate::float_checks::CameraSpec;
 
@@ -83,13 +84,24 @@ pub fn edge_coverage(x: f32, x0: f32, antialiased: bool) -> f32 {
     (num / den).clamp(0.0, 1.0)
 }
 
+/// A scene of straight RGBA voxels defined by `field` at every point of voxel space: its
+/// voxels are `field` at the voxel centres, and the field itself is the scene's continuous
+/// definition ([`Continuous`]).
 fn rgba_scene(
     name: &str,
     description: &str,
     n: usize,
-    voxels: Vec<StraightF32>,
     dir: [f32; 3],
+    field: impl Fn([f32; 3]) -> StraightF32 + Send + Sync + 'static,
 ) -> Scene {
+    let mut voxels = Vec::with_capacity(n * n * n);
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                voxels.push(field([x as f32, y as f32, z as f32]));
+            }
+        }
+    }
     Scene {
         name: name.into(),
         description: description.into(),
@@ -104,6 +116,10 @@ fn rgba_scene(
         background: BLACK_BG,
         camera: camera_towards(n, dir),
         image: [64, 64],
+        continuous: Some(Continuous::rgba(move |p| {
+            let v = field(p.map(|x| x as f32));
+            (v.c.map(f64::from), f64::from(v.a))
+        })),
     }
 }
 
@@ -111,23 +127,19 @@ fn rgba_scene(
 /// with `antialiased`, the face at `x = x0` is band-limited by a windowed sinc.
 pub fn corner(n: usize, antialiased: bool, air: StraightF32) -> Scene {
     let (lo, hi) = (n as f32 * 0.25 + 0.3, n as f32 * 0.75 + 0.3);
-    let mut v = vec![air; n * n * n];
-    for z in 0..n {
-        for y in 0..n {
-            for x in 0..n {
-                let inside_yz =
-                    (y as f32) >= lo && (y as f32) < hi && (z as f32) >= lo && (z as f32) < hi;
-                let a = if inside_yz && (x as f32) < hi {
-                    edge_coverage(x as f32, lo, antialiased)
-                } else {
-                    0.0
-                };
-                if a > 0.0 {
-                    v[idx(n, x, y, z)] = StraightF32 { c: [1.0; 3], a };
-                }
-            }
+    let field = move |[x, y, z]: [f32; 3]| {
+        let inside_yz = y >= lo && y < hi && z >= lo && z < hi;
+        let a = if inside_yz && x < hi {
+            edge_coverage(x, lo, antialiased)
+        } else {
+            0.0
+        };
+        if a > 0.0 {
+            StraightF32 { c: [1.0; 3], a }
+        } else {
+            air
         }
-    }
+    };
     let aa = if antialiased { "aa" } else { "aliased" };
     rgba_scene(
         &format!("corner-{aa}-{n}"),
@@ -140,55 +152,48 @@ pub fn corner(n: usize, antialiased: bool, air: StraightF32) -> Scene {
             }
         ),
         n,
-        v,
         [-1.0, 0.8, 0.9],
+        field,
     )
 }
 
 /// A slab seen at a grazing angle (rays nearly parallel to its face).
 pub fn graze(n: usize) -> Scene {
     let y0 = n as f32 * 0.5 + 0.25;
-    let mut v = vec![BLACK_AIR; n * n * n];
-    for z in 0..n {
-        for y in 0..n {
-            for x in 0..n {
-                if (y as f32) >= y0 + 0.05 * x as f32 {
-                    v[idx(n, x, y, z)] = WHITE;
-                }
-            }
-        }
-    }
     rgba_scene(
         &format!("graze-{n}"),
         &format!("slab at a grazing angle, {n}³"),
         n,
-        v,
         [1.0, 0.12, 0.35],
+        move |[x, y, _]| {
+            if y >= y0 + 0.05 * x {
+                WHITE
+            } else {
+                BLACK_AIR
+            }
+        },
     )
 }
 
 /// A solid face slightly tilted to the view, so the ray phase at the boundary sweeps across
 /// the image (Wittenbrink §4's phase experiment).
 pub fn phase(n: usize) -> Scene {
-    let mut v = vec![BLACK_AIR; n * n * n];
-    for z in 0..n {
-        for y in 0..n {
-            for x in 0..n {
-                if (z as f32) >= n as f32 * 0.4 + 0.07 * x as f32 {
-                    v[idx(n, x, y, z)] = StraightF32 {
-                        c: [0.9, 0.9, 0.9],
-                        a: 0.6,
-                    };
-                }
-            }
-        }
-    }
+    let z0 = n as f32 * 0.4;
     rgba_scene(
         &format!("phase-{n}"),
         &format!("tilted semi-opaque face, {n}³ (phase sweep)"),
         n,
-        v,
         [0.0, 0.0, 1.0],
+        move |[x, _, z]| {
+            if z >= z0 + 0.07 * x {
+                StraightF32 {
+                    c: [0.9, 0.9, 0.9],
+                    a: 0.6,
+                }
+            } else {
+                BLACK_AIR
+            }
+        },
     )
 }
 
@@ -197,75 +202,78 @@ pub fn phase(n: usize) -> Scene {
 pub fn ball_in_air(n: usize, air: StraightF32, name: &str) -> Scene {
     let c = (n as f32 - 1.0) * 0.5 + 0.27;
     let r = 0.32 * n as f32;
-    let mut v = vec![air; n * n * n];
-    for z in 0..n {
-        for y in 0..n {
-            for x in 0..n {
-                let d2 = [x, y, z]
-                    .iter()
-                    .map(|&i| (i as f32 - c).powi(2))
-                    .sum::<f32>();
-                if d2 <= r * r {
-                    v[idx(n, x, y, z)] = WHITE;
-                }
-            }
-        }
-    }
     rgba_scene(
         &format!("{name}-{n}"),
         &format!("white ball in transparent {name} air, {n}³"),
         n,
-        v,
         [0.3, -0.4, 1.0],
+        move |p| {
+            let d2 = p.iter().map(|&i| (i - c).powi(2)).sum::<f32>();
+            if d2 <= r * r {
+                WHITE
+            } else {
+                air
+            }
+        },
     )
 }
 
-/// A one-voxel-wide opaque wall, seen obliquely, sampled at `d = d′` (Kraus §3.6).
+/// A one-voxel-wide opaque wall (the slab `|x − n/2| < ½`), seen obliquely, sampled at
+/// `d = d′` (Kraus §3.6).
 pub fn wall(n: usize, d: f32) -> Scene {
-    let mut v = vec![BLACK_AIR; n * n * n];
-    let x0 = n / 2;
-    for z in 0..n {
-        for y in 0..n {
-            v[idx(n, x0, y, z)] = StraightF32 {
-                c: [0.2, 0.8, 1.0],
-                a: 1.0,
-            };
-        }
-    }
+    let x0 = (n / 2) as f32;
     let mut s = rgba_scene(
         &format!("wall-{n}"),
         &format!("one-voxel opaque wall, {n}³, d = d′ = {d}"),
         n,
-        v,
         [1.0, 0.3, 0.6],
+        move |[x, _, _]| {
+            if (x - x0).abs() < 0.5 {
+                StraightF32 {
+                    c: [0.2, 0.8, 1.0],
+                    a: 1.0,
+                }
+            } else {
+                BLACK_AIR
+            }
+        },
     );
     s.step = d;
     s.d_ref = d;
     s
 }
 
-/// Scattered single opaque voxels (about 2 %), sampled at `d = d′` (Kraus §3.6).
+/// Scattered single opaque voxels (about 2 %; each the unit cube around its centre), sampled
+/// at `d = d′` (Kraus §3.6).
 pub fn scattered(n: usize, d: f32) -> Scene {
-    let mut v = vec![BLACK_AIR; n * n * n];
     // A fixed xorshift so the scene is the same everywhere.
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    for voxel in v.iter_mut() {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        if state % 50 == 0 {
-            *voxel = StraightF32 {
-                c: [1.0, 0.9, 0.3],
-                a: 1.0,
-            };
-        }
-    }
+    let chosen: Vec<bool> = (0..n * n * n)
+        .map(|_| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % 50 == 0
+        })
+        .collect();
     let mut s = rgba_scene(
         &format!("scattered-{n}"),
         &format!("scattered opaque voxels, {n}³, d = d′ = {d}"),
         n,
-        v,
         [0.7, 0.5, 1.0],
+        move |p| {
+            // The voxel whose unit cube holds `p`.
+            let [x, y, z] = p.map(|c| (c + 0.5).floor());
+            let inside = [x, y, z].iter().all(|&c| c >= 0.0 && c < n as f32);
+            if inside && chosen[idx(n, x as usize, y as usize, z as usize)] {
+                StraightF32 {
+                    c: [1.0, 0.9, 0.3],
+                    a: 1.0,
+                }
+            } else {
+                BLACK_AIR
+            }
+        },
     );
     s.step = d;
     s.d_ref = d;
@@ -325,6 +333,7 @@ pub fn torus(n: usize) -> Scene {
         background: BLACK_BG,
         camera: camera_towards(n, [0.2, -0.7, 1.0]),
         image: [64, 64],
+        continuous: Some(torus_field(n)),
     }
 }
 
@@ -385,7 +394,42 @@ pub fn tf_ramp(n: usize) -> Scene {
         background: BLACK_BG,
         camera: camera_towards(n, [0.3, 0.2, 1.0]),
         image: [64, 64],
+        continuous: Some(tf_ramp_field(n)),
     }
+}
+
+/// The torus's scalar field before voxelization: the tube's smooth ramp, low-passed by the
+/// same separable `[1 2 1]/4` filter one voxel apart (at any point, not only at voxel
+/// centres), in 8-bit units, not quantized.
+fn torus_field(n: usize) -> Continuous {
+    let c = (n as f64 - 1.0) * 0.5;
+    let (big, small) = (0.3 * n as f64, 0.13 * n as f64);
+    let raw = move |[x, y, z]: [f64; 3]| {
+        let (px, py, pz) = (x - c, y - c, z - c);
+        let ring = ((px * px + py * py).sqrt() - big).hypot(pz);
+        (0.5 + (small - ring) / 2.0).clamp(0.0, 1.0)
+    };
+    const W: [(f64, f64); 3] = [(-1.0, 0.25), (0.0, 0.5), (1.0, 0.25)];
+    Continuous::scalar(move |[x, y, z]| {
+        let mut s = 0.0;
+        for (dz, wz) in W {
+            for (dy, wy) in W {
+                for (dx, wx) in W {
+                    s += wx * wy * wz * raw([x + dx, y + dy, z + dz]);
+                }
+            }
+        }
+        255.0 * s
+    })
+}
+
+/// The radial scalar field of [`tf_ramp`] before voxelization (not floored to integers).
+fn tf_ramp_field(n: usize) -> Continuous {
+    let c = (n as f64 - 1.0) * 0.5;
+    Continuous::scalar(move |p| {
+        let r = p.iter().map(|&x| (x - c).powi(2)).sum::<f64>().sqrt();
+        (255.0 * (1.0 - r / (0.55 * n as f64))).clamp(0.0, 255.0)
+    })
 }
 
 /// The scenes of the default report (32³), or of the full one (32³ and 128³, larger images).

@@ -6,6 +6,7 @@
 //! pre-passes the scene needs — classification only for scalar data, shading only with a
 //! light — and the pipeline ([`crate::pipeline`]) picks the per-sample stages by type.
 
+pub mod continuous;
 pub mod generate;
 pub mod load;
 pub mod phantom;
@@ -74,6 +75,9 @@ pub struct Scene {
     pub camera: CameraSpec,
     /// Image width and height.
     pub image: [usize; 2],
+    /// The scene's definition before voxelization, where it has one (the generated scenes):
+    /// the report integrates its truth from it ([`continuous::continuous_truth`]).
+    pub continuous: Option<continuous::Continuous>,
 }
 
 /// The effects (stages) a scene calls for, as the pipeline will build them.
