@@ -76,3 +76,19 @@ def test_bad_input_raises():
     bad[1, 2, 3, 3] = 1.5
     with pytest.raises(ValueError, match="out of range"):
         vd.pyramid(da.from_array(bad, chunks=2), 1)[1].compute()
+
+
+def test_the_halo_matters(volumes):
+    """The invariance test can fail: downsampling each chunk on its own (no halo, each chunk
+    clamped at its own edges) differs from the whole volume at the chunk seams."""
+    vol = volumes["float32"][:16, :16, :16]
+    ext = volsample.to_extinction(vol)
+    whole = volsample.downsample_level(ext, "extinction", 0.25)
+    naive = da.from_array(ext, chunks=(8, 8, 8, 4)).map_blocks(
+        lambda b: volsample.downsample_level(np.ascontiguousarray(b), "extinction", 0.25),
+        chunks=((4, 4),) * 3 + ((4,),), dtype=np.float32).compute()
+    assert not np.array_equal(naive, whole)
+    # Away from the seams (coarse voxels 0-2 and 5-7 read no other chunk) they agree.
+    inner = np.r_[0:3, 5:8]
+    np.testing.assert_array_equal(naive[np.ix_(inner, inner, inner)],
+                                  whole[np.ix_(inner, inner, inner)])
