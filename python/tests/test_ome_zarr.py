@@ -54,3 +54,19 @@ def test_readable_by_ome_zarr(tmp_path, rng):
         np.testing.assert_array_equal(np.moveaxis(np.asarray(arr), 0, -1), whole[lvl])
     axes = nodes[0].metadata.get("axes")
     assert [a["name"] if isinstance(a, dict) else a for a in axes] == ["c", "z", "y", "x"]
+
+
+def test_readable_by_ngff_zarr(tmp_path, rng):
+    nz = pytest.importorskip("ngff_zarr")
+    vol = random_straight_u8(rng, (20, 24, 28))
+    levels = vd.pyramid(da.from_array(vol, chunks=(8, 8, 8, 4)), 2)
+    path = str(tmp_path / "pyr.ome.zarr")
+    vd.to_ome_zarr(levels, path, voxel_size=(2.0, 1.0, 1.0))
+    ms = nz.from_ngff_zarr(path)
+    assert len(ms.images) == 3
+    assert [dict(im.scale) for im in ms.images] == [
+        {"c": 1.0, "z": 2.0 * 2 ** l, "y": 2.0 ** l, "x": 2.0 ** l} for l in range(3)]
+    whole = volsample.pyramid(vol, 2)
+    for im, want in zip(ms.images, whole):
+        assert tuple(im.dims) == ("c", "z", "y", "x")
+        np.testing.assert_array_equal(np.moveaxis(np.asarray(im.data), 0, -1), want)
