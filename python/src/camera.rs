@@ -1,7 +1,7 @@
 //! The cameras of `render`: orthographic and perspective, as one Python class.
 
 use pyo3::prelude::*;
-use volsample::{Orthographic, Perspective};
+use volsample::{Orthographic, Perspective, Ray};
 
 use crate::core_err;
 
@@ -10,6 +10,18 @@ use crate::core_err;
 pub(crate) enum CameraKind {
     Ortho(Orthographic),
     Persp(Perspective),
+}
+
+/// One `Camera` type for both kinds, so each marcher's pixel loop is compiled once (not once
+/// per camera type): the match costs one branch per ray.
+impl volsample::Camera for CameraKind {
+    #[inline]
+    fn ray(&self, i: usize, j: usize, width: usize, height: usize) -> Ray {
+        match self {
+            CameraKind::Ortho(c) => c.ray(i, j, width, height),
+            CameraKind::Persp(c) => c.ray(i, j, width, height),
+        }
+    }
 }
 
 /// A camera for `render`: build one with `Camera.orthographic`, `Camera.perspective` or

@@ -790,10 +790,7 @@ where
     let mut img = vec![Sample::TRANSPARENT; w.checked_mul(h).ok_or(Error::EmptyImage)?];
     let threads = threads.clamp(1, h.max(1));
     if threads == 1 {
-        match cam {
-            CameraKind::Ortho(c) => m.render_into(&c, w, h, &mut img)?,
-            CameraKind::Persp(c) => m.render_into(&c, w, h, &mut img)?,
-        }
+        m.render_into(&cam, w, h, &mut img)?;
     } else {
         // Bands of whole rows on scoped threads: each pixel as `render_into` renders it.
         let rows_per = h.div_ceil(threads);
@@ -803,10 +800,8 @@ where
                 .enumerate()
                 .map(|(i, band)| {
                     let m = &m;
-                    s.spawn(move || match cam {
-                        CameraKind::Ortho(c) => m.render_rows_into(&c, (w, h), i * rows_per, band),
-                        CameraKind::Persp(c) => m.render_rows_into(&c, (w, h), i * rows_per, band),
-                    })
+                    let cam = &cam;
+                    s.spawn(move || m.render_rows_into(cam, (w, h), i * rows_per, band))
                 })
                 .collect();
             handles
