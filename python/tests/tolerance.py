@@ -1,0 +1,35 @@
+"""The test suite's tolerance table: every bound a test holds, named, with where it comes from.
+
+``EPS32 = 2**-23`` (the f32 machine epsilon); the core's doc comments state each kernel's bound.
+"""
+
+EPS32 = 2.0 ** -23
+
+#: Trilinear (and the quadratic B-spline) sampling in f32 against scipy's f64
+#: ``map_coordinates`` on premultiplied f64 arrays, per channel, absolute (channels are in
+#: [0, 1]): 8 weights and 8 products, summed, plus the f32 rounding of C·α and of the
+#: positions' fractions, stays below 16 ulp of 1.
+SAMPLE_VS_SCIPY_ABS = 16 * EPS32
+
+#: The same for the 27-tap triquadratic B-spline (27 products and sums).
+BSPLINE_VS_SCIPY_ABS = 48 * EPS32
+
+#: Extinction sampling (trilinear τ and C^τ, then α = 1 − e^(−τd) and C̃ = C^τ·α/τ by the
+#: core's φ polynomial) against the f64 formula: the φ bound (2ε relative) plus the trilinear
+#: sums' and the conversion's roundings.
+EXTINCTION_SAMPLE_ABS = 64 * EPS32
+
+#: Opacity correction (``opacity::correct``): within 8 ulp of the exact value times
+#: max(1, ratio) (the core's doc), checked here against the f64 formula.
+CORRECTION_ABS = 8 * EPS32
+
+
+def opacity_level_abs(level: int) -> float:
+    """Opacity-based level ``level`` against an f64 model: ``17ε·(2^ℓ − 1)`` (the core's doc)."""
+    return 17 * EPS32 * (2 ** level - 1)
+
+
+def extinction_level_abs(level: int, tau_max: float) -> float:
+    """Extinction-based level ``level`` against an f64 model: ``7.5ε·ℓ·2^ℓ·τ_max`` (the core's
+    doc), plus the f32 rounding of level 0's τ (relative 2ε, doubled per level)."""
+    return 7.5 * EPS32 * level * 2 ** level * tau_max + 2 * EPS32 * 2 ** level * tau_max
