@@ -145,51 +145,100 @@ pub fn corner(n: usize, antialiased: bool, air: StraightF32) -> Scene {
     )
 }
 
-/// A slab seen at a grazing angle (rays nearly parallel to its face).
+/// A slab seen at a grazing angle (rays nearly parallel to its face), aliased: the name is
+/// `graze-{n}`; [`graze_aa`] is the same slab with its face antialiased.
 pub fn graze(n: usize) -> Scene {
+    graze_with(n, false)
+}
+
+/// [`graze`] with its principal face (`y = y0 + 0.05·x`) band-limited by a windowed sinc
+/// across the face, as Wittenbrink's fig. 10 objects: `graze-aa-{n}`.
+pub fn graze_aa(n: usize) -> Scene {
+    graze_with(n, true)
+}
+
+fn graze_with(n: usize, antialiased: bool) -> Scene {
     let y0 = n as f32 * 0.5 + 0.25;
     let mut v = vec![BLACK_AIR; n * n * n];
     for z in 0..n {
         for y in 0..n {
             for x in 0..n {
-                if (y as f32) >= y0 + 0.05 * x as f32 {
-                    v[idx(n, x, y, z)] = WHITE;
+                // Coverage of the half-space y ≥ y0 + 0.05·x, filtered along y (the face's
+                // normal to within 3°).
+                let a = if antialiased {
+                    edge_coverage(y as f32 - 0.05 * x as f32, y0, true)
+                } else if (y as f32) >= y0 + 0.05 * x as f32 {
+                    1.0
+                } else {
+                    0.0
+                };
+                if a > 0.0 {
+                    v[idx(n, x, y, z)] = StraightF32 { c: [1.0; 3], a };
                 }
             }
         }
     }
-    rgba_scene(
-        &format!("graze-{n}"),
-        &format!("slab at a grazing angle, {n}³"),
-        n,
-        v,
-        [1.0, 0.12, 0.35],
-    )
+    let (name, description) = if antialiased {
+        (
+            format!("graze-aa-{n}"),
+            format!("slab at a grazing angle, {n}³, windowed-sinc antialiased face"),
+        )
+    } else {
+        (
+            format!("graze-{n}"),
+            format!("slab at a grazing angle, {n}³"),
+        )
+    };
+    rgba_scene(&name, &description, n, v, [1.0, 0.12, 0.35])
 }
 
 /// A solid face slightly tilted to the view, so the ray phase at the boundary sweeps across
-/// the image (Wittenbrink §4's phase experiment).
+/// the image (Wittenbrink §4's phase experiment), aliased: `phase-{n}`; [`phase_aa`] is the
+/// same face antialiased.
 pub fn phase(n: usize) -> Scene {
+    phase_with(n, false)
+}
+
+/// [`phase`] with its face (`z = 0.4·n + 0.07·x`) band-limited by a windowed sinc across the
+/// face, as Wittenbrink's fig. 10 objects: `phase-aa-{n}`.
+pub fn phase_aa(n: usize) -> Scene {
+    phase_with(n, true)
+}
+
+fn phase_with(n: usize, antialiased: bool) -> Scene {
     let mut v = vec![BLACK_AIR; n * n * n];
     for z in 0..n {
         for y in 0..n {
             for x in 0..n {
-                if (z as f32) >= n as f32 * 0.4 + 0.07 * x as f32 {
+                // Coverage of the half-space z ≥ 0.4·n + 0.07·x, filtered along z.
+                let cov = if antialiased {
+                    edge_coverage(z as f32 - 0.07 * x as f32, n as f32 * 0.4, true)
+                } else if (z as f32) >= n as f32 * 0.4 + 0.07 * x as f32 {
+                    1.0
+                } else {
+                    0.0
+                };
+                if cov > 0.0 {
                     v[idx(n, x, y, z)] = StraightF32 {
                         c: [0.9, 0.9, 0.9],
-                        a: 0.6,
+                        a: 0.6 * cov,
                     };
                 }
             }
         }
     }
-    rgba_scene(
-        &format!("phase-{n}"),
-        &format!("tilted semi-opaque face, {n}³ (phase sweep)"),
-        n,
-        v,
-        [0.0, 0.0, 1.0],
-    )
+    let (name, description) = if antialiased {
+        (
+            format!("phase-aa-{n}"),
+            format!("tilted semi-opaque face, {n}³ (phase sweep), windowed-sinc antialiased"),
+        )
+    } else {
+        (
+            format!("phase-{n}"),
+            format!("tilted semi-opaque face, {n}³ (phase sweep)"),
+        )
+    };
+    rgba_scene(&name, &description, n, v, [0.0, 0.0, 1.0])
 }
 
 /// An opaque white ball in transparent air of straight color `air` (red: bleeding; black:
