@@ -487,3 +487,263 @@ pub fn run(out: &std::path::Path) -> Result<(), String> {
     }
     Ok(())
 }
+
+// ---------------------------------------------------------------------------------------------
+// §3.5 with a fixed d′, and fig. 7 as the paper set it up.
+
+/// The fig. 1 ray with opacity-based sampling whose vertex opacities hold for a fixed
+/// reference distance `d_ref` (`α_v = 1 − e^(−τ_max·d′)`), opacity-corrected to the step `d`
+/// (Kraus §3.5, "a larger distance `d′ > d`"):
+/// `α = 1 − Π_k (1 − α_v·h(x_k))^(d/d′)` over the samples `x_k = (k + r)·d`.
+///
+/// With `d_ref = d` this is [`fig4_model`]`(OpacityBased, …)`.
+pub fn fig4_model_fixed_dref(tau_max: f64, d: f64, d_ref: f64, r: f64) -> f64 {
+    let k0 = (-1.0 / d - r).ceil() as i64;
+    let k1 = (1.0 / d - r).floor() as i64;
+    let a_v = -(-tau_max * d_ref).exp_m1();
+    // Σ ln(1 − α_v·h), then the corrected transmittance e^((d/d′)·Σ).
+    let log_t: f64 = (k0..=k1)
+        .map(|k| (-a_v * hat((k as f64 + r) * d)).ln_1p())
+        .sum();
+    -((d / d_ref) * log_t).exp_m1()
+}
+
+/// The same ray through the core: [`fig4_core`]'s `9 × 2 × 1` volume with opacities for
+/// `d_ref`, marched with `OpacityWeighted` at step `d` (the marcher corrects the opacity,
+/// as `d ≠ d′`).
+///
+/// # Errors
+/// From the core.
+pub fn fig4_core_fixed_dref(
+    tau_max: f32,
+    d: f32,
+    d_ref: f32,
+    r: f32,
+) -> Result<f32, volsample::Error> {
+    let dims = [9, 2, 1];
+    let steps_before = (6.0 / d).ceil();
+    let ray = Ray::new([4.0 - steps_before * d, 0.5, 0.0], [1.0, 0.0, 0.0])?;
+    let step = Step::new(d)?.with_phase(r)?;
+    let a_v = -(-tau_max * d_ref).exp_m1();
+    let vox: Vec<StraightF32> = (0..18)
+        .map(|i| StraightF32 {
+            c: [1.0; 3],
+            a: if i % 9 == 4 { a_v } else { 0.0 },
+        })
+        .collect();
+    let vol = Volume::new(&vox, dims)?.with_reference_distance(d_ref)?;
+    let m = RayMarcher::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )?;
+    Ok(m.cast(&ray).a)
+}
+
+/// The orthographic camera of the §3.6 renderings ([`scene36`]).
+///
+/// # Errors
+/// From the core (never for these constants).
+pub fn scene36_camera() -> Result<Orthographic, volsample::Error> {
+    let dir = [1.0f32, 0.37, 0.23];
+    let centre = [11.5f32; 3];
+    let eye = [
+        centre[0] - 30.0 * dir[0],
+        centre[1] - 30.0 * dir[1],
+        centre[2] - 30.0 * dir[2],
+    ];
+    Orthographic::new(eye, dir, [0.0, 0.0, 1.0], 12.0)
+}
+
+/// The occupancy of the §3.6 scenes' `24³` volume (1 where [`Scene36::voxels`] is opaque).
+pub fn scene36_occupancy(scene: Scene36) -> Vec<f64> {
+    scene
+        .voxels()
+        .iter()
+        .map(|v| if v.a > 0.0 { 1.0 } else { 0.0 })
+        .collect()
+}
+
+/// Kraus fig. 7 as the paper sets its experiments up (§3.5): the occupied voxels of `scene`
+/// have a fixed extinction `τ` per unit length (independent of the step), white; the
+/// opacity-based rendering stores the opacity for `d′ = d`, `α_v = 1 − e^(−τd)`; the
+/// extinction-based one stores `τ`. Step `d`, sample phase `r` (a viewing parameter: where
+/// the samples fall along the rays). The camera and image are those of [`scene36`].
+///
+/// # Errors
+/// From the core.
+pub fn scene36_tau(
+    scene: Scene36,
+    method: Method,
+    tau: f32,
+    d: f32,
+    r: f32,
+) -> Result<Vec<f32>, volsample::Error> {
+    let dims = [24, 24, 24];
+    let occ = scene36_occupancy(scene);
+    let cam = scene36_camera()?;
+    let step = Step::new(d)?.with_phase(r)?;
+    let mut img = vec![Sample::TRANSPARENT; IMAGE * IMAGE];
+    match method {
+        Method::OpacityBased => {
+            let a_v = -(-tau * d).exp_m1();
+            let vox: Vec<StraightF32> = occ
+                .iter()
+                .map(|&o| StraightF32 {
+                    c: [1.0; 3],
+                    a: if o > 0.0 { a_v } else { 0.0 },
+                })
+                .collect();
+            let vol = Volume::new(&vox, dims)?.with_reference_distance(d)?;
+            RayMarcher::new(
+                vol,
+                OpacityWeighted,
+                Trilinear::new(),
+                FrontToBack::new(),
+                step,
+            )?
+            .render_into(&cam, IMAGE, IMAGE, &mut img)?;
+        }
+        Method::ExtinctionBased => {
+            let vox: Vec<ExtinctionF32> = occ
+                .iter()
+                .map(|&o| {
+                    let t = if o > 0.0 { tau } else { 0.0 };
+                    ExtinctionF32 {
+                        c_tau: [t; 3],
+                        tau: t,
+                    }
+                })
+                .collect();
+            let vol = Volume::new(&vox, dims)?;
+            RayMarcher::new(
+                vol,
+                ExtinctionWeighted,
+                Trilinear::new(),
+                FrontToBack::new(),
+                step,
+            )?
+            .render_into(&cam, IMAGE, IMAGE, &mut img)?;
+        }
+    }
+    Ok(img.iter().map(|s| s.a).collect())
+}
+
+/// The trilinear interpolation of the scalar field `f` (`24³`, `x` fastest) at `p`, in f64,
+/// clamped to the edge as the core's filters are (a position outside `[0, 23]` reads the
+/// nearest edge plane).
+fn trilinear_f64(f: &[f64], p: [f64; 3]) -> f64 {
+    let n = 24usize;
+    let p = p.map(|c| c.clamp(0.0, (n - 1) as f64));
+    let i = p.map(|c| (c.floor() as usize).min(n - 2));
+    let t = [0, 1, 2].map(|k| p[k] - i[k] as f64);
+    let mut s = 0.0;
+    for corner in 0..8usize {
+        let o = [corner & 1, (corner >> 1) & 1, corner >> 2];
+        let w: f64 = (0..3)
+            .map(|k| if o[k] == 1 { t[k] } else { 1.0 - t[k] })
+            .product();
+        s += w * f[(i[0] + o[0]) + n * ((i[1] + o[1]) + n * (i[2] + o[2]))];
+    }
+    s
+}
+
+/// `∫ f(o + s·u) ds` of the trilinearly interpolated `24³` field `f` (clamped to the edge)
+/// along a line, over the part inside the volume box `[−½, 23.5]³` (where the core's rays
+/// sample), in f64. Between consecutive crossings of the planes `x, y, z ∈ {0, 1, …, 23}`
+/// the integrand is a polynomial of degree at most 3 in `s`, which Simpson's rule integrates
+/// exactly, so the result is exact up to rounding.
+pub fn line_integral_trilinear(f: &[f64], o: [f64; 3], u: [f64; 3]) -> f64 {
+    let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+    for k in 0..3 {
+        if u[k] == 0.0 {
+            if !(-0.5..=23.5).contains(&o[k]) {
+                return 0.0;
+            }
+        } else {
+            let (a, b) = ((-0.5 - o[k]) / u[k], (23.5 - o[k]) / u[k]);
+            lo = lo.max(a.min(b));
+            hi = hi.min(a.max(b));
+        }
+    }
+    if hi <= lo {
+        return 0.0;
+    }
+    let mut cuts = vec![lo, hi];
+    for k in 0..3 {
+        if u[k] != 0.0 {
+            for plane in 0..=23 {
+                let s = (f64::from(plane) - o[k]) / u[k];
+                if s > lo && s < hi {
+                    cuts.push(s);
+                }
+            }
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    let at = |s: f64| trilinear_f64(f, [0, 1, 2].map(|k| o[k] + s * u[k]));
+    cuts.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            (b - a) / 6.0 * (at(a) + 4.0 * at(0.5 * (a + b)) + at(b))
+        })
+        .sum()
+}
+
+/// The exact opacity image of [`scene36_tau`]'s data: per pixel (the same rays),
+/// `1 − e^(−τ·∫ occupancy)` with the trilinearly interpolated occupancy integrated exactly
+/// ([`line_integral_trilinear`]): the limit both methods approach as `d → 0` (Kraus eq. 1
+/// for the interpolated extinction field).
+///
+/// # Errors
+/// From the core's camera.
+pub fn scene36_exact(scene: Scene36, tau: f64) -> Result<Vec<f64>, volsample::Error> {
+    use volsample::Camera;
+    let occ = scene36_occupancy(scene);
+    let cam = scene36_camera()?;
+    let mut out = Vec::with_capacity(IMAGE * IMAGE);
+    for j in 0..IMAGE {
+        for i in 0..IMAGE {
+            let ray = cam.ray(i, j, IMAGE, IMAGE);
+            let o = ray.origin().map(f64::from);
+            let u = ray.dir().map(f64::from);
+            let len = u.iter().map(|c| c * c).sum::<f64>().sqrt();
+            let u = u.map(|c| c / len);
+            out.push(-(-tau * line_integral_trilinear(&occ, o, u)).exp_m1());
+        }
+    }
+    Ok(out)
+}
+
+/// The fig. 7 measures of one method at one `τ` and step `d`, over the sample phases
+/// `r = j/phases`: `(RMS of α − exact over all pixels and phases, RMS over pixels of the
+/// standard deviation of α across the phases)`. The first is the error; the second is the
+/// paper's "variation of the projected intensity depending on the viewing parameters"
+/// (the exact image does not depend on the phase).
+///
+/// # Errors
+/// From the core.
+pub fn fig7_measures(
+    scene: Scene36,
+    method: Method,
+    tau: f32,
+    d: f32,
+    phases: usize,
+    exact: &[f64],
+) -> Result<(f64, f64), volsample::Error> {
+    let imgs: Vec<Vec<f32>> = (0..phases)
+        .map(|j| scene36_tau(scene, method, tau, d, j as f32 / phases as f32))
+        .collect::<Result<_, _>>()?;
+    let n = exact.len() as f64;
+    let mut err2 = 0.0;
+    let mut var = 0.0;
+    for (p, &e) in exact.iter().enumerate() {
+        let vals: Vec<f64> = imgs.iter().map(|im| f64::from(im[p])).collect();
+        let mean = vals.iter().sum::<f64>() / phases as f64;
+        err2 += vals.iter().map(|v| (v - e).powi(2)).sum::<f64>() / phases as f64;
+        var += vals.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / phases as f64;
+    }
+    Ok(((err2 / n).sqrt(), (var / n).sqrt()))
+}

@@ -1,5 +1,6 @@
 //! The worked examples and closed forms of Wittenbrink, Malzbender, Goss 1998
-//! (`papers/wittenbrink1998-owci.txt`), reproduced with the core's sampling and compositing.
+//! (*Opacity-Weighted Color Interpolation for Volume Sampling*, IEEE VolVis 1998; the math is
+//! restated in `docs/math.md`), reproduced with the core's sampling and compositing.
 //!
 //! * §2 (fig. 2A): three bilinear samples at a boundary between empty space and opaque
 //!   material, interpolated separately and composited with EQ 4–6: ray color 0.75.

@@ -157,17 +157,48 @@ pub fn corner(n: usize, antialiased: bool, air: StraightF32) -> Scene {
     )
 }
 
-/// A slab seen at a grazing angle (rays nearly parallel to its face).
+/// A slab seen at a grazing angle (rays nearly parallel to its face), aliased: the name is
+/// `graze-{n}`; [`graze_aa`] is the same slab with its face antialiased.
 pub fn graze(n: usize) -> Scene {
+    graze_with(n, false)
+}
+
+/// [`graze`] with its principal face (`y = y0 + 0.05·x`) band-limited by a windowed sinc
+/// across the face, as Wittenbrink's fig. 10 objects: `graze-aa-{n}`.
+pub fn graze_aa(n: usize) -> Scene {
+    graze_with(n, true)
+}
+
+fn graze_with(n: usize, antialiased: bool) -> Scene {
     let y0 = n as f32 * 0.5 + 0.25;
+    let (name, description) = if antialiased {
+        (
+            format!("graze-aa-{n}"),
+            format!("slab at a grazing angle, {n}³, windowed-sinc antialiased face"),
+        )
+    } else {
+        (
+            format!("graze-{n}"),
+            format!("slab at a grazing angle, {n}³"),
+        )
+    };
     rgba_scene(
-        &format!("graze-{n}"),
-        &format!("slab at a grazing angle, {n}³"),
+        &name,
+        &description,
         n,
         [1.0, 0.12, 0.35],
         move |[x, y, _]| {
-            if y >= y0 + 0.05 * x {
-                WHITE
+            // Coverage of the half-space y ≥ y0 + 0.05·x, filtered along y (the face's normal
+            // to within 3°).
+            let a = if antialiased {
+                edge_coverage(y - 0.05 * x, y0, true)
+            } else if y >= y0 + 0.05 * x {
+                1.0
+            } else {
+                0.0
+            };
+            if a > 0.0 {
+                StraightF32 { c: [1.0; 3], a }
             } else {
                 BLACK_AIR
             }
@@ -176,25 +207,49 @@ pub fn graze(n: usize) -> Scene {
 }
 
 /// A solid face slightly tilted to the view, so the ray phase at the boundary sweeps across
-/// the image (Wittenbrink §4's phase experiment).
+/// the image (Wittenbrink §4's phase experiment), aliased: `phase-{n}`; [`phase_aa`] is the
+/// same face antialiased.
 pub fn phase(n: usize) -> Scene {
+    phase_with(n, false)
+}
+
+/// [`phase`] with its face (`z = 0.4·n + 0.07·x`) band-limited by a windowed sinc across the
+/// face, as Wittenbrink's fig. 10 objects: `phase-aa-{n}`.
+pub fn phase_aa(n: usize) -> Scene {
+    phase_with(n, true)
+}
+
+fn phase_with(n: usize, antialiased: bool) -> Scene {
     let z0 = n as f32 * 0.4;
-    rgba_scene(
-        &format!("phase-{n}"),
-        &format!("tilted semi-opaque face, {n}³ (phase sweep)"),
-        n,
-        [0.0, 0.0, 1.0],
-        move |[x, _, z]| {
-            if z >= z0 + 0.07 * x {
-                StraightF32 {
-                    c: [0.9, 0.9, 0.9],
-                    a: 0.6,
-                }
-            } else {
-                BLACK_AIR
+    let (name, description) = if antialiased {
+        (
+            format!("phase-aa-{n}"),
+            format!("tilted semi-opaque face, {n}³ (phase sweep), windowed-sinc antialiased"),
+        )
+    } else {
+        (
+            format!("phase-{n}"),
+            format!("tilted semi-opaque face, {n}³ (phase sweep)"),
+        )
+    };
+    rgba_scene(&name, &description, n, [0.0, 0.0, 1.0], move |[x, _, z]| {
+        // Coverage of the half-space z ≥ 0.4·n + 0.07·x, filtered along z.
+        let cov = if antialiased {
+            edge_coverage(z - 0.07 * x, z0, true)
+        } else if z >= z0 + 0.07 * x {
+            1.0
+        } else {
+            0.0
+        };
+        if cov > 0.0 {
+            StraightF32 {
+                c: [0.9, 0.9, 0.9],
+                a: 0.6 * cov,
             }
-        },
-    )
+        } else {
+            BLACK_AIR
+        }
+    })
 }
 
 /// An opaque white ball in transparent air of straight color `air` (red: bleeding; black:
