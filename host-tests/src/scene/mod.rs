@@ -6,6 +6,7 @@
 //! pre-passes the scene needs — classification only for scalar data, shading only with a
 //! light — and the pipeline ([`crate::pipeline`]) picks the per-sample stages by type.
 
+#[cfg(feature = "app")]
 pub mod generate;
 pub mod load;
 pub mod phantom;
