@@ -23,7 +23,13 @@ use crate::int_model::{
 use crate::tolerance::integer as tol;
 
 /// The fuzz targets, by name (`fuzz/fuzz_targets/<name>.rs`, corpus in `fuzz/corpus/<name>/`).
-pub const TARGETS: [&str; 4] = ["premul_storage", "int_vs_float", "composite", "extinction"];
+pub const TARGETS: [&str; 5] = [
+    "premul_storage",
+    "int_vs_float",
+    "composite",
+    "extinction",
+    "marcher_packets",
+];
 
 /// Decodes `data` as the fuzz target `target` does and runs its check.
 ///
@@ -35,6 +41,12 @@ pub fn run(target: &str, data: &[u8]) -> Result<(), String> {
         "int_vs_float" => decode(data).and_then(|i| int_vs_float(&i)),
         "composite" => decode(data).and_then(|i| composite(&i)),
         "extinction" => decode(data).and_then(|i| extinction(&i)),
+        #[cfg(feature = "marcher-checks")]
+        "marcher_packets" => decode(data).and_then(|i| crate::marcher_checks::marcher_packets(&i)),
+        #[cfg(not(feature = "marcher-checks"))]
+        "marcher_packets" => {
+            Err("marcher_packets: built without the feature marcher-checks".into())
+        }
         _ => Err(format!("unknown fuzz target {target}")),
     }
 }

@@ -2,8 +2,9 @@
 //! pieces the `volsample` CLI and the tests share.
 //!
 //! Without the default feature `app` only the models remain (`reference`, `int_model`,
-//! `tolerance`, `float_checks`, `checks`), with no dependency beyond the core, `arbitrary` and
-//! std: the fuzz targets build it so.
+//! `tolerance`, `float_checks`, `checks`, `marcher_checks`), with no dependency beyond the core, `arbitrary` and
+//! std: the fuzz targets build it so. The feature `loaders` (part of `app`) adds the scenes, the
+//! file loaders and `parser_checks`, for the parser fuzz targets.
 
 pub mod checks;
 #[cfg(feature = "app")]
@@ -20,8 +21,12 @@ pub mod int_model;
 pub mod isa;
 #[cfg(feature = "app")]
 pub mod kraus;
+#[cfg(feature = "marcher-checks")]
+pub mod marcher_checks;
 #[cfg(feature = "app")]
 pub mod out;
+#[cfg(feature = "loaders")]
+pub mod parser_checks;
 #[cfg(feature = "app")]
 pub mod pipeline;
 #[cfg(feature = "app")]
@@ -29,7 +34,7 @@ pub mod plot;
 pub mod reference;
 #[cfg(feature = "app")]
 pub mod report;
-#[cfg(feature = "app")]
+#[cfg(feature = "loaders")]
 pub mod scene;
 #[cfg(feature = "app")]
 pub mod strategies;

@@ -15,9 +15,7 @@ use std::sync::Arc;
 use volsample::shade::Light;
 
 use super::{Classification, Scene};
-use crate::reference::{
-    self, integrate_segment, RefAssoc, RefExtinction, RefIsosurface, RefTransferFunction, RefVoxel,
-};
+use crate::reference::{self, RefIsosurface, RefTransferFunction, RefVoxel};
 
 /// A straight color and an opacity per reference distance at a point of voxel space.
 pub type RgbaField = Arc<dyn Fn([f64; 3]) -> ([f64; 3], f64) + Send + Sync>;
@@ -115,12 +113,14 @@ fn ref_tf(points: &[volsample::ControlPoint]) -> RefTransferFunction {
     )
 }
 
+#[cfg(feature = "app")]
 /// The truth of `scene` from its continuous definition: per pixel (row-major), the displayed
 /// color of the exact emission–absorption integral of [`rgba_at`] along the pixel's ray over
 /// the volume's box (`[−½, n − ½]` per axis, as the methods clip), substeps of at most `h`
 /// voxels, over the scene's background. `None` for a scene without a definition. Rows run on
 /// all cores.
 pub fn continuous_truth(scene: &Scene, h: f64) -> Option<Vec<[f32; 3]>> {
+    use crate::reference::{integrate_segment, RefAssoc, RefExtinction};
     scene.continuous.as_ref()?;
     let d_ref = f64::from(scene.d_ref);
     let field = |p: [f64; 3]| -> RefExtinction {

@@ -7,6 +7,7 @@
 //! light — and the pipeline ([`crate::pipeline`]) picks the per-sample stages by type.
 
 pub mod continuous;
+#[cfg(feature = "app")]
 pub mod generate;
 pub mod load;
 pub mod phantom;

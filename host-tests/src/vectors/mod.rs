@@ -284,6 +284,10 @@ impl Kernel {
     }
 }
 
+/// The most vectors one request may ask for (a few GB of hex at most; `--count` past it was
+/// accepted and then ran until killed).
+pub const MAX_COUNT: usize = 100_000_000;
+
 /// What went wrong while generating, writing or reading vectors.
 #[derive(Debug)]
 #[non_exhaustive]
@@ -292,6 +296,8 @@ pub enum VectorError {
     UnknownKernel(String),
     /// `count` was 0.
     ZeroCount,
+    /// `count` was over [`MAX_COUNT`].
+    CountTooLarge(usize),
     /// `frac_bits` outside `4..=12`.
     FracBits(u32),
     /// A table size not in [`TABLE_SIZES`].
@@ -341,6 +347,9 @@ impl fmt::Display for VectorError {
                 write!(f, "unknown kernel '{k}' (one of: {names})")
             }
             VectorError::ZeroCount => write!(f, "--count must be at least 1"),
+            VectorError::CountTooLarge(n) => {
+                write!(f, "--count {n} is over the limit of {MAX_COUNT}")
+            }
             VectorError::FracBits(b) => {
                 write!(f, "--frac-bits {b} is outside 4..=12")
             }
@@ -397,11 +406,15 @@ impl Spec {
     /// Validates a request (table size [`DEFAULT_TABLE_SIZE`]).
     ///
     /// # Errors
-    /// [`VectorError::UnknownKernel`], [`VectorError::ZeroCount`], [`VectorError::FracBits`].
+    /// [`VectorError::UnknownKernel`], [`VectorError::ZeroCount`],
+    /// [`VectorError::CountTooLarge`], [`VectorError::FracBits`].
     pub fn new(kernel: &str, count: usize, seed: u64, frac_bits: u32) -> Result<Self, VectorError> {
         let kernel = Kernel::parse(kernel)?;
         if count == 0 {
             return Err(VectorError::ZeroCount);
+        }
+        if count > MAX_COUNT {
+            return Err(VectorError::CountTooLarge(count));
         }
         if !(4..=12).contains(&frac_bits) {
             return Err(VectorError::FracBits(frac_bits));

@@ -1,0 +1,11 @@
+//! Fuzz target `load_tiff`: runs `volsample_host::parser_checks::run("load_tiff", data)` (the stable
+//! corpus-replay test runs the same function) and fails on a panic or a broken promise.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| {
+    if let Err(e) = volsample_host::parser_checks::run("load_tiff", data) {
+        panic!("load_tiff: {e}");
+    }
+});
