@@ -604,3 +604,28 @@ fn load_progress_follows_the_bytes_read() {
         assert_eq!(bar.position(), 0);
     }
 }
+
+/// A column of tiny or huge finite lengths keeps its length: the squares of 2.16e-243 underflow
+/// to zero and those of 1e200 overflow, which gave a zero and an infinite spacing (found by
+/// the `load_raw` fuzz target); ordinary columns keep `√(Σ a²)` exactly.
+#[test]
+fn space_spacing_survives_underflow_and_overflow() {
+    use volsample_host::scene::load::{Space, SpaceSource};
+    let s = Space::diagonal([2.16e-243, 1e200, 0.5], SpaceSource::Given);
+    assert_eq!(s.spacing, [2.16e-243, 1e200, 0.5]);
+    let mut a = [[0.0; 4]; 4];
+    a[0][0] = 3e-200;
+    a[1][0] = 4e-200;
+    a[0][1] = 3.0;
+    a[1][1] = 4.0;
+    a[2][2] = 1.0;
+    let s = Space::from_affine(a, SpaceSource::Given);
+    // 5e-200 within an ulp or two; the normal column exactly 5.
+    assert!(
+        (s.spacing[0] / 5e-200 - 1.0).abs() < 1e-15,
+        "{:?}",
+        s.spacing
+    );
+    assert_eq!(s.spacing[1], 5.0);
+    assert_eq!(s.spacing[2], 1.0);
+}

@@ -281,14 +281,21 @@ impl Space {
         Self::from_affine(a, source)
     }
 
-    /// The space of `affine` (its last row is taken as `[0, 0, 0, 1]`); the spacing is computed.
+    /// The space of `affine` (its last row is taken as `[0, 0, 0, 1]`); the spacing is computed:
+    /// each column's length, `√(Σ a²)`, or where the squares underflow or overflow (a column
+    /// of lengths below about `10⁻¹⁵⁴` or above `10¹⁵⁴`), the same scaled by the column's
+    /// largest entry, so that no finite non-zero column has length zero or infinity.
     pub fn from_affine(mut affine: [[f64; 4]; 4], source: SpaceSource) -> Self {
         affine[3] = [0.0, 0.0, 0.0, 1.0];
         let spacing = [0, 1, 2].map(|c| {
-            (0..3)
-                .map(|r| affine[r][c] * affine[r][c])
-                .sum::<f64>()
-                .sqrt()
+            let col = [0, 1, 2].map(|r| affine[r][c]);
+            let squares = col.iter().map(|x| x * x).sum::<f64>();
+            let m = col.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            if squares.is_normal() || m == 0.0 || !m.is_finite() {
+                squares.sqrt()
+            } else {
+                m * col.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
+            }
         });
         Space {
             affine,
