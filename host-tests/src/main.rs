@@ -35,8 +35,9 @@ enum Preset {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Render every paper scene with every mode × precision × filter, compare against the
-    /// ground truth, and print error and time side by side (the default command).
+    /// Render every paper scene with every mode × precision × filter, compare against two
+    /// truths, time each method on large frames, and print tables and verdicts (the default
+    /// command; `index.html` in the output folder).
     Report {
         /// Everything: 32³ and 128³ scenes at 128×128, both trilinear orders.
         #[arg(long)]

@@ -1,5 +1,7 @@
-//! The accuracy-against-time report: every paper scene, every method, against the ground
-//! truth; a table on stdout, CSV, JSON, PNG images and an error-against-time plot on disk.
+//! The accuracy-against-time report: every paper scene, every method, against two truths (the
+//! continuous scene and the interpolated extinction field), each method timed on large
+//! frames; tables and verdicts on stdout, and on disk CSV, JSON, images, error-against-time
+//! plots and `index.html`.
 
 use std::path::PathBuf;
 
@@ -273,8 +275,8 @@ pub fn per_pixel(
     out
 }
 
-/// The ground truth: the emission–absorption integral along each pixel's ray, with fine
-/// substeps `h`, of the trilinear extinction field of the prepared RGBA voxels — or, for
+/// The extinction-field truth: the emission–absorption integral along each pixel's ray, with
+/// fine substeps `h`, of the trilinear extinction field of the prepared RGBA voxels — or, for
 /// transfer-function scenes, of the transfer function applied to the trilinearly interpolated
 /// scalar at every substep. Over the scene's background. Rows run on all cores.
 pub fn ground_truth(scene: &Scene, prepared: &Prepared, h: f64) -> Vec<[f32; 3]> {
