@@ -49,43 +49,46 @@ struct VolumeArg {
     dims: [usize; 3],
 }
 
+/// Voxels of four channels and their `[x, y, z]` dimensions.
+type Rgba<T> = (Vec<[T; 4]>, [usize; 3]);
+
+/// The voxels and `[x, y, z]` dimensions of a `(z, y, x, 4)` array of element type `T`, or
+/// `None` when `obj` is not such an array of `T`.
+fn read_rgba<T: numpy::Element + Copy>(obj: &Bound<'_, PyAny>) -> Option<PyResult<Rgba<T>>> {
+    let shape_err = || value_err("volume must have shape (z, y, x, 4)");
+    let a = obj.extract::<PyReadonlyArray4<'_, T>>().ok()?;
+    let s = a.shape();
+    if s[3] != 4 {
+        return Some(Err(shape_err()));
+    }
+    let dims = [s[2], s[1], s[0]];
+    let v = a.as_array();
+    let data = v
+        .as_standard_layout()
+        .as_slice()
+        .ok_or_else(shape_err)
+        .map(|d| {
+            d.chunks_exact(4)
+                .map(|c| [c[0], c[1], c[2], c[3]])
+                .collect()
+        });
+    Some(data.map(|d| (d, dims)))
+}
+
 /// Reads a `(z, y, x, 4)` `uint8` or `float32` array.
 fn read_volume(obj: &Bound<'_, PyAny>) -> PyResult<VolumeArg> {
-    let shape_err = || value_err("volume must have shape (z, y, x, 4)");
-    if let Ok(a) = obj.extract::<PyReadonlyArray4<'_, u8>>() {
-        let s = a.shape();
-        if s[3] != 4 {
-            return Err(shape_err());
-        }
-        let v = a.as_array();
-        let data: Vec<[u8; 4]> = v
-            .as_standard_layout()
-            .as_slice()
-            .ok_or_else(shape_err)?
-            .chunks_exact(4)
-            .map(|c| [c[0], c[1], c[2], c[3]])
-            .collect();
+    if let Some(r) = read_rgba::<u8>(obj) {
+        let (data, dims) = r?;
         return Ok(VolumeArg {
             channels: Channels::U8(data),
-            dims: [s[2], s[1], s[0]],
+            dims,
         });
     }
-    if let Ok(a) = obj.extract::<PyReadonlyArray4<'_, f32>>() {
-        let s = a.shape();
-        if s[3] != 4 {
-            return Err(shape_err());
-        }
-        let v = a.as_array();
-        let data: Vec<[f32; 4]> = v
-            .as_standard_layout()
-            .as_slice()
-            .ok_or_else(shape_err)?
-            .chunks_exact(4)
-            .map(|c| [c[0], c[1], c[2], c[3]])
-            .collect();
+    if let Some(r) = read_rgba::<f32>(obj) {
+        let (data, dims) = r?;
         return Ok(VolumeArg {
             channels: Channels::F32(data),
-            dims: [s[2], s[1], s[0]],
+            dims,
         });
     }
     Err(value_err(
