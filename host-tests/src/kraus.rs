@@ -129,13 +129,7 @@ pub fn fig4_core(method: Method, tau_max: f32, d: f32, r: f32) -> Result<f32, vo
         }
         Method::ExtinctionBased => {
             let vox: Vec<ExtinctionF32> = (0..18)
-                .map(|i| {
-                    let t = if i % 9 == 4 { tau_max } else { 0.0 };
-                    ExtinctionF32 {
-                        c_tau: [t; 3],
-                        tau: t,
-                    }
-                })
+                .map(|i| white_extinction(if i % 9 == 4 { tau_max } else { 0.0 }))
                 .collect();
             let vol = Volume::new(&vox, dims)?;
             RayMarcher::new(
@@ -609,13 +603,7 @@ pub fn scene36_tau(
         Method::ExtinctionBased => {
             let vox: Vec<ExtinctionF32> = occ
                 .iter()
-                .map(|&o| {
-                    let t = if o > 0.0 { tau } else { 0.0 };
-                    ExtinctionF32 {
-                        c_tau: [t; 3],
-                        tau: t,
-                    }
-                })
+                .map(|&o| white_extinction(if o > 0.0 { tau } else { 0.0 }))
                 .collect();
             let vol = Volume::new(&vox, dims)?;
             RayMarcher::new(
@@ -746,4 +734,12 @@ pub fn fig7_measures(
         var += vals.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / phases as f64;
     }
     Ok(((err2 / n).sqrt(), (var / n).sqrt()))
+}
+
+/// A white voxel of extinction `t`: `τ = t`, `C^τ = t·(1, 1, 1)`.
+fn white_extinction(t: f32) -> ExtinctionF32 {
+    ExtinctionF32 {
+        c_tau: [t; 3],
+        tau: t,
+    }
 }
