@@ -9,7 +9,7 @@
 pub mod checks;
 #[cfg(feature = "app")]
 pub mod demo;
-#[cfg(feature = "app")]
+#[cfg(feature = "testing")]
 pub mod edge_cases;
 #[cfg(feature = "app")]
 pub mod filters;
@@ -36,8 +36,10 @@ pub mod reference;
 pub mod report;
 #[cfg(feature = "loaders")]
 pub mod scene;
-#[cfg(feature = "app")]
+#[cfg(feature = "testing")]
 pub mod strategies;
+#[cfg(feature = "app")]
+pub mod texture_unit;
 pub mod tolerance;
 #[cfg(feature = "app")]
 pub mod vectors;

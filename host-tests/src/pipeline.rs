@@ -26,6 +26,7 @@ use volsample::{
 
 use crate::float_checks::{CameraSpec, FilterKind};
 use crate::scene::{Prepared, Scene};
+use crate::texture_unit::{Bytes, Shader, Texels};
 
 /// What is interpolated, including the storage it reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -78,17 +79,49 @@ impl ModeChoice {
 pub enum Precision {
     /// `f32` kernels.
     F32,
-    /// Integer kernels, `u8` storage, 8 fractional position bits, U8.8 samples.
+    /// Integer kernels, `u8` storage, 8 fractional position bits, U8.8 samples (and
+    /// [`INT_EXTINCTION_TABLE`]-node tables for the extinction mode).
     Int8,
+    /// The integer `OpacityWeighted` trilinear kernel at another number of fractional
+    /// position bits `F` (one of [`INT_BITS_SWEEP`]): error against bits.
+    IntBits(u32),
+    /// The integer `ExtinctionWeighted` trilinear kernel (F = 8) with tables of another size
+    /// `N` (one of [`INT_TABLE_SWEEP`]): error against table size.
+    IntTable(usize),
+    /// A GPU texture unit's filtering ([`crate::texture_unit`]): trilinear weights with 8
+    /// fractional bits on RGBA8 texels, compositing in `f32`; on straight RGBA8
+    /// (`Separate`) and premultiplied RGBA8 (`PreweightedU8`). Not timed: its time on a CPU
+    /// says nothing of a GPU's.
+    Texture8,
 }
+
+/// The fractional position bits of the [`Precision::IntBits`] rows (8 is [`Precision::Int8`]).
+pub const INT_BITS_SWEEP: [u32; 4] = [4, 6, 10, 12];
+
+/// The table sizes of the [`Precision::IntTable`] rows ([`INT_EXTINCTION_TABLE`] is
+/// [`Precision::Int8`]).
+pub const INT_TABLE_SWEEP: [usize; 4] = [17, 65, 1025, 4097];
 
 impl Precision {
     /// A short label.
-    pub fn label(self) -> &'static str {
+    pub fn label(self) -> String {
         match self {
-            Precision::F32 => "f32",
-            Precision::Int8 => "int-F8",
+            Precision::F32 => "f32".into(),
+            Precision::Int8 => "int-F8".into(),
+            Precision::IntBits(f) => format!("int-F{f}"),
+            Precision::IntTable(n) => format!("int-F8-N{n}"),
+            Precision::Texture8 => "gpu-tex8".into(),
         }
+    }
+
+    /// The precisions a report runs: `f32`, the integer kernels at F = 8, the sweeps over
+    /// bits and table sizes, and the GPU texture unit.
+    pub fn all() -> Vec<Precision> {
+        let mut v = vec![Precision::F32, Precision::Int8];
+        v.extend(INT_BITS_SWEEP.map(Precision::IntBits));
+        v.extend(INT_TABLE_SWEEP.map(Precision::IntTable));
+        v.push(Precision::Texture8);
+        v
     }
 }
 
@@ -118,7 +151,9 @@ impl Method {
     /// Whether the method exists for this scene (post-classification needs a transfer
     /// function; the integer kernels cover nearest and trilinear for the RGBA modes with
     /// 8-bit storage: `Separate`, `OpacityWeighted`, `PreweightedU8`, and `ExtinctionWeighted`
-    /// on `(τ, C^τ)` fixed point converted from the 8-bit straight voxels).
+    /// on `(τ, C^τ)` fixed point converted from the 8-bit straight voxels; the sweeps over
+    /// bits and table sizes cover `OpacityWeighted` and `ExtinctionWeighted` trilinear; the
+    /// GPU texture unit `Separate` and `PreweightedU8` trilinear).
     pub fn available(&self, scene_has_tf: bool) -> bool {
         let mode_ok = self.mode != ModeChoice::PostClassified || scene_has_tf;
         let int_ok = match self.precision {
@@ -132,15 +167,32 @@ impl Method {
                         | ModeChoice::ExtinctionWeighted
                 ) && matches!(self.filter, FilterKind::Nearest | FilterKind::TrilinearSum)
             }
+            Precision::IntBits(_) => {
+                self.mode == ModeChoice::OpacityWeighted && self.filter == FilterKind::TrilinearSum
+            }
+            Precision::IntTable(_) => {
+                self.mode == ModeChoice::ExtinctionWeighted
+                    && self.filter == FilterKind::TrilinearSum
+            }
+            Precision::Texture8 => {
+                matches!(self.mode, ModeChoice::Separate | ModeChoice::PreweightedU8)
+                    && self.filter == FilterKind::TrilinearSum
+            }
         };
         mode_ok && int_ok
     }
 
+    /// Whether the report times the method (not the emulated GPU texture unit).
+    pub fn timed(&self) -> bool {
+        self.precision != Precision::Texture8
+    }
+
     /// The methods a report runs: every mode × precision × filter available for the scene
-    /// (the tree trilinear order only in `full`, as it computes the same values).
+    /// (the tree trilinear order only in `full`, as it computes the same values), the
+    /// precision sweeps and the GPU texture unit included ([`Precision::all`]).
     pub fn all(scene_has_tf: bool, full: bool) -> Vec<Method> {
         let mut v = Vec::new();
-        for precision in [Precision::F32, Precision::Int8] {
+        for precision in Precision::all() {
             for mode in ModeChoice::ALL {
                 for filter in FilterKind::ALL {
                     if filter == FilterKind::TrilinearTree && !full {
@@ -284,16 +336,16 @@ impl<V: Voxel, M: Mode<V>, F: Filter, O: volsample::composite::Order> Frames
     }
 }
 
-struct IntFrames<'v, V, M, Fl> {
-    marcher: IntRayMarcher<'v, V, M, Fl, INT_FRAC_BITS>,
+struct IntFrames<'v, V, M, Fl, const B: u32> {
+    marcher: IntRayMarcher<'v, V, M, Fl, B>,
     cam: Cam,
     image: [usize; 2],
     /// Early termination is on.
     stops: bool,
 }
 
-impl<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter> Frames
-    for IntFrames<'_, V, M, Fl>
+impl<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter, const B: u32> Frames
+    for IntFrames<'_, V, M, Fl, B>
 {
     fn image(&self) -> [usize; 2] {
         self.image
@@ -375,7 +427,7 @@ fn float_build<V: Voxel, M: Mode<V> + Copy, F: Filter, T>(
     }
 }
 
-fn int_build<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter, T>(
+fn int_build<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter, T, const B: u32>(
     scene: &Scene,
     data: &[V],
     mode: M,
@@ -383,7 +435,7 @@ fn int_build<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter, T
     body: impl FnOnce(&dyn Frames) -> T,
 ) -> Result<T, volsample::Error> {
     // The core's integer pipeline: positions from the same f32 rays, clamped into the grid
-    // and quantised (round half up) to F = 8 bits, integer samples, table-driven correction
+    // and quantised (round half up) to F = B bits (8 but in the sweep), integer samples, table-driven correction
     // when d ≠ d′ (opacity-based modes), integer front-to-back with early stop, and the
     // background composited in U8.8.
     let vol = Volume::new(data, scene.dims)?.with_reference_distance(scene.d_ref)?;
@@ -393,7 +445,7 @@ fn int_build<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter, T
     } else {
         IntStop::NEVER
     };
-    let marcher = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(vol, mode, filter, stop, step)?
+    let marcher = IntRayMarcher::<_, _, _, B>::new(vol, mode, filter, stop, step)?
         .with_background(int_background(scene.background)?)
         .with_isa(crate::isa::chosen());
     Ok(body(&IntFrames {
@@ -434,8 +486,16 @@ pub fn with_pipeline<T>(
     macro_rules! with_int_filter {
         ($data:expr, $mode:expr) => {
             match method.filter {
-                FilterKind::Nearest => int_build(scene, $data, $mode, Nearest, body),
-                FilterKind::TrilinearSum => int_build(scene, $data, $mode, Trilinear::new(), body),
+                FilterKind::Nearest => {
+                    int_build::<_, _, _, _, INT_FRAC_BITS>(scene, $data, $mode, Nearest, body)
+                }
+                FilterKind::TrilinearSum => int_build::<_, _, _, _, INT_FRAC_BITS>(
+                    scene,
+                    $data,
+                    $mode,
+                    Trilinear::new(),
+                    body,
+                ),
                 _ => Err(volsample::Error::InvalidClassifier),
             }
         };
@@ -492,8 +552,130 @@ pub fn with_pipeline<T>(
             let mode = IntExtinction::new(&tables, 1.0)?;
             with_int_filter!(&e, mode)
         }
-        (Precision::Int8, _) => Err(volsample::Error::InvalidClassifier),
+        (Precision::IntBits(bits), ModeChoice::OpacityWeighted)
+            if method.filter == FilterKind::TrilinearSum =>
+        {
+            let data = straight_u8(&prepared.rgba);
+            let (m, f) = (OpacityWeighted, Trilinear::new());
+            match bits {
+                4 => int_build::<_, _, _, _, 4>(scene, &data, m, f, body),
+                6 => int_build::<_, _, _, _, 6>(scene, &data, m, f, body),
+                10 => int_build::<_, _, _, _, 10>(scene, &data, m, f, body),
+                12 => int_build::<_, _, _, _, 12>(scene, &data, m, f, body),
+                _ => Err(volsample::Error::InvalidClassifier),
+            }
+        }
+        (Precision::IntTable(n), ModeChoice::ExtinctionWeighted)
+            if method.filter == FilterKind::TrilinearSum =>
+        {
+            let e: Vec<_> = straight_u8(&prepared.rgba)
+                .into_iter()
+                .map(ExtinctionFx::from_straight_u8)
+                .collect();
+            macro_rules! table {
+                ($n:literal) => {{
+                    let tables = ExtinctionTables::<$n>::new();
+                    let mode = IntExtinction::new(&tables, 1.0)?;
+                    int_build::<_, _, _, _, INT_FRAC_BITS>(scene, &e, mode, Trilinear::new(), body)
+                }};
+            }
+            match n {
+                17 => table!(17),
+                65 => table!(65),
+                1025 => table!(1025),
+                4097 => table!(4097),
+                _ => Err(volsample::Error::InvalidClassifier),
+            }
+        }
+        (Precision::Texture8, ModeChoice::Separate)
+            if method.filter == FilterKind::TrilinearSum =>
+        {
+            texture_build(
+                scene,
+                &straight_u8(&prepared.rgba),
+                Separate,
+                Texels::Straight,
+                body,
+            )
+        }
+        (Precision::Texture8, ModeChoice::PreweightedU8)
+            if method.filter == FilterKind::TrilinearSum =>
+        {
+            texture_build(
+                scene,
+                &associated_u8(&prepared.rgba),
+                Preweighted,
+                Texels::Premultiplied,
+                body,
+            )
+        }
+        _ => Err(volsample::Error::InvalidClassifier),
     }
+}
+
+struct TextureFrames<'v, V, M> {
+    /// The core marcher whose sample ranges the shader takes.
+    marcher: RayMarcher<'v, V, M, Nearest, FrontToBack>,
+    shader: Shader<'v, V>,
+    cam: Cam,
+    image: [usize; 2],
+}
+
+impl<V: Voxel + Bytes, M: Mode<V>> Frames for TextureFrames<'_, V, M> {
+    fn image(&self) -> [usize; 2] {
+        self.image
+    }
+
+    fn frame(&self, pixels: &mut [Sample]) -> Result<(), volsample::Error> {
+        let expected = self.image[0] * self.image[1];
+        if pixels.len() != expected {
+            return Err(volsample::Error::ImageSizeMismatch {
+                expected,
+                actual: pixels.len(),
+            });
+        }
+        let (img, _) = self
+            .shader
+            .image(&self.cam, self.image, |r| self.marcher.sample_range(r));
+        pixels.copy_from_slice(&img);
+        Ok(())
+    }
+
+    fn samples(&self) -> u64 {
+        self.shader
+            .image(&self.cam, self.image, |r| self.marcher.sample_range(r))
+            .1
+    }
+}
+
+/// The GPU texture unit's pipeline ([`crate::texture_unit`]): the sample positions and the
+/// opacity correction decision of the core marcher `RayMarcher::new(vol, mode, ..)`, the
+/// texture unit's fetch, `f32` compositing.
+fn texture_build<V: Voxel + Bytes, M: Mode<V>, T>(
+    scene: &Scene,
+    data: &[V],
+    mode: M,
+    texels: Texels,
+    body: impl FnOnce(&dyn Frames) -> T,
+) -> Result<T, volsample::Error> {
+    let vol = Volume::new(data, scene.dims)?.with_reference_distance(scene.d_ref)?;
+    let step = Step::new(scene.step)?.with_phase(scene.phase)?;
+    let marcher = RayMarcher::new(vol, mode, Nearest, FrontToBack::new(), step)?;
+    let shader = Shader {
+        volume: vol,
+        texels,
+        d: step.d(),
+        ratio: marcher.correction().map(|c| c.ratio()),
+        a_stop: scene.a_stop,
+        background: scene.background,
+        quantize: true,
+    };
+    Ok(body(&TextureFrames {
+        marcher,
+        shader,
+        cam: Cam::new(&scene.camera)?,
+        image: scene.image,
+    }))
 }
 
 /// Renders one frame of `scene` (already [`prepare`](Scene::prepare)d) with `method`; the

@@ -320,3 +320,110 @@ fn every_listed_method_builds() {
         .iter()
         .any(|m| m.mode == ModeChoice::ExtinctionWeighted && m.precision == Precision::Int8));
 }
+
+/// The precision sweep's rows are the core's integer marcher at their bits and table sizes.
+#[test]
+fn sweep_frames_are_the_core_int_ray_marcher_at_their_bits_and_tables() {
+    let (s, p) = scene();
+    let step = Step::new(s.step).unwrap();
+    let stop = IntStop::new((0.9f64 * 65280.0 + 0.5).floor() as u16).unwrap();
+    let bg = int_background(s.background).unwrap();
+    let to = |x: IntSample| x.to_f32();
+    let straight = straight_u8(&p.rgba);
+    let vol = Volume::new(&straight, s.dims)
+        .unwrap()
+        .with_reference_distance(s.d_ref)
+        .unwrap();
+    let m = IntRayMarcher::<_, _, _, 4>::new(vol, OpacityWeighted, Trilinear::new(), stop, step)
+        .unwrap()
+        .with_background(bg);
+    let want = direct(&s, |r| m.cast_counted(r), to);
+    let got = pipeline_frame(
+        &s,
+        &p,
+        method(
+            ModeChoice::OpacityWeighted,
+            Precision::IntBits(4),
+            FilterKind::TrilinearSum,
+        ),
+    );
+    assert_same(&got, &want, "OW int F=4 trilinear");
+
+    let ext: Vec<ExtinctionFx> = straight
+        .iter()
+        .map(|&v| ExtinctionFx::from_straight_u8(v))
+        .collect();
+    let evol = Volume::new(&ext, s.dims)
+        .unwrap()
+        .with_reference_distance(s.d_ref)
+        .unwrap();
+    let tables = ExtinctionTables::<17>::new();
+    let m = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(
+        evol,
+        IntExtinction::new(&tables, 1.0).unwrap(),
+        Trilinear::new(),
+        stop,
+        step,
+    )
+    .unwrap()
+    .with_background(bg);
+    let want = direct(&s, |r| m.cast_counted(r), to);
+    let got = pipeline_frame(
+        &s,
+        &p,
+        method(
+            ModeChoice::ExtinctionWeighted,
+            Precision::IntTable(17),
+            FilterKind::TrilinearSum,
+        ),
+    );
+    assert_same(&got, &want, "Extinction int N=17 trilinear");
+}
+
+/// RMS over pixels and channels of the displayed difference, in 8-bit levels.
+fn rms_levels(a: &[Sample], b: &[Sample]) -> f64 {
+    let sum: f64 = a
+        .iter()
+        .zip(b)
+        .flat_map(|(x, y)| (0..3).map(move |k| f64::from(x.c[k] - y.c[k]) * 255.0))
+        .map(|e| e * e)
+        .sum();
+    (sum / (3 * a.len()) as f64).sqrt()
+}
+
+/// Error against bits shows: the integer OW kernel comes closer to the f32 one with 12
+/// fractional position bits than with 4, and the integer extinction kernel with 4097 table
+/// nodes than with 17.
+#[test]
+fn more_bits_and_larger_tables_come_closer_to_f32() {
+    let (mut s, _) = scene();
+    s.image = [32, 32];
+    let p = s.prepare().unwrap();
+    let frame = |mode, precision| {
+        pipeline_frame(&s, &p, method(mode, precision, FilterKind::TrilinearSum)).0
+    };
+    let ow = frame(ModeChoice::OpacityWeighted, Precision::F32);
+    let (e4, e12) = (
+        rms_levels(
+            &frame(ModeChoice::OpacityWeighted, Precision::IntBits(4)),
+            &ow,
+        ),
+        rms_levels(
+            &frame(ModeChoice::OpacityWeighted, Precision::IntBits(12)),
+            &ow,
+        ),
+    );
+    assert!(e4 > e12, "F=4: {e4}, F=12: {e12} levels from f32");
+    let ext = frame(ModeChoice::ExtinctionWeighted, Precision::F32);
+    let (n17, n4097) = (
+        rms_levels(
+            &frame(ModeChoice::ExtinctionWeighted, Precision::IntTable(17)),
+            &ext,
+        ),
+        rms_levels(
+            &frame(ModeChoice::ExtinctionWeighted, Precision::IntTable(4097)),
+            &ext,
+        ),
+    );
+    assert!(n17 > n4097, "N=17: {n17}, N=4097: {n4097} levels from f32");
+}

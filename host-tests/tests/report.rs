@@ -126,6 +126,11 @@ fn row(scene: &str, m: Method, rms: f64) -> Row {
         method: m,
         continuous: Some(e),
         field: e,
+        from_f32: (m.precision != Precision::F32).then_some(Errors {
+            rms: rms / 10.0,
+            p99: rms / 5.0,
+            over: 0.0,
+        }),
         samples: 100,
     }
 }
@@ -234,6 +239,98 @@ fn the_report_finds_separate_leaking_into_the_red_air() {
     assert!(text.contains("VERDICT, RGBA scenes"), "{text}");
     assert!(text.contains("Separate leaks"), "{text}");
     assert!(text.contains(&r.machine.line()), "{text}");
+    // Precision as a dimension: the sweeps and the GPU texture unit have rows and lines, and
+    // the texture unit is not timed.
+    for p in [
+        Precision::IntBits(4),
+        Precision::IntBits(12),
+        Precision::IntTable(17),
+        Precision::IntTable(4097),
+        Precision::Texture8,
+    ] {
+        assert!(r.rows.iter().any(|x| x.method.precision == p), "{p:?}");
+    }
+    assert!(r
+        .timings
+        .iter()
+        .all(|t| t.method.precision != Precision::Texture8));
+    // Every other precision is also compared with the f32 image of its mode and filter.
+    for x in &r.rows {
+        assert_eq!(
+            x.from_f32.is_some(),
+            x.method.precision != Precision::F32,
+            "{} on {}",
+            x.method.label(),
+            x.scene
+        );
+    }
+    assert!(r
+        .timings
+        .iter()
+        .any(|t| t.method.precision == Precision::IntBits(12)));
+    assert!(text.contains("by fractional position bits"), "{text}");
+    assert!(text.contains("by table nodes"), "{text}");
+    assert!(text.contains("GPU texture unit"), "{text}");
+}
+
+/// The precision lines are the summary's numbers, in order of bits.
+#[test]
+fn precision_lines_list_error_and_time_against_bits() {
+    let at = |mode, precision| Method {
+        mode,
+        precision,
+        filter: FilterKind::TrilinearSum,
+    };
+    let ow = |p| at(ModeChoice::OpacityWeighted, p);
+    let rows = vec![
+        row("a", ow(Precision::IntBits(12)), 2.5),
+        row("a", ow(Precision::Int8), 3.0),
+        row("a", ow(Precision::IntBits(4)), 6.0),
+        row("a", ow(Precision::F32), 2.0),
+        row("a", at(ModeChoice::Separate, Precision::Texture8), 5.0),
+        row("a", at(ModeChoice::Separate, Precision::F32), 4.0),
+    ];
+    let t = |m, ns| Timing {
+        group: Group::Rgba,
+        scene: "timing".into(),
+        sizes: ([4; 3], [4, 4]),
+        method: m,
+        ns_per_sample: ns,
+        samples: 1,
+    };
+    let r = Report {
+        rows,
+        timings: vec![
+            t(ow(Precision::IntBits(4)), 4.1),
+            t(ow(Precision::Int8), 4.0),
+            t(ow(Precision::IntBits(12)), 4.2),
+            t(ow(Precision::F32), 6.0),
+            t(at(ModeChoice::Separate, Precision::F32), 5.5),
+        ],
+        machine: Machine {
+            isa: Isa::BASELINE,
+            threads: 1,
+            cpu: "test".into(),
+        },
+    };
+    let l = report::precision_lines(&r, Group::Rgba);
+    assert_eq!(l.len(), 2, "{l:?}");
+    assert!(
+        l[0].ends_with(
+            "F=4: 0.60 from f32, RMS 6.00 at 4.1 ns; F=8: 0.30 from f32, RMS 3.00 at 4.0 ns; \
+             F=12: 0.25 from f32, RMS 2.50 at 4.2 ns (f32: RMS 2.00 at 6.0 ns)"
+        ),
+        "{l:?}"
+    );
+    assert!(
+        l[1].ends_with(
+            "on straight RGBA8 (separate): 0.50 from f32, RMS 5.00; the f32 filter on f32 straight voxels: RMS 4.00"
+        ),
+        "{l:?}"
+    );
+    // Not timed: "-" in the tables.
+    assert_eq!(report::time_cells(f64::NAN, 4.0), ("-".into(), "-".into()));
+    assert_eq!(report::time_cells(6.0, 4.0), ("6.0".into(), "1.50x".into()));
 }
 
 /// The report counts a frame's samples by `sample_range` where no ray stops early: that is

@@ -97,17 +97,28 @@ pub fn page_with(report: &Report, plots: &[String]) -> String {
         for x in order {
             let cont = c.iter().find(|y| y.method == x.method).map(|y| y.errors);
             let field = f.iter().find(|y| y.method == x.method).map(|y| y.errors);
+            let (ns, cost) = super::time_cells(x.ns, cheapest);
             let _ = writeln!(
                 h,
-                "<tr><td>{}</td>{}{}<td>{:.1}</td><td>{:.2}x</td></tr>",
+                "<tr><td>{}</td>{}{}<td>{ns}</td><td>{cost}</td></tr>",
                 escape(&x.method.label()),
                 cells(cont),
                 cells(field),
-                x.ns,
-                x.ns / cheapest
             );
         }
         let _ = writeln!(h, "</table>");
+        let lines = super::precision_lines(report, g);
+        if !lines.is_empty() {
+            let _ = writeln!(
+                h,
+                "<div class=\"precision\" id=\"precision-{}\">",
+                g.label().replace(' ', "-")
+            );
+            for l in lines {
+                let _ = writeln!(h, "<p>{}</p>", escape(&l));
+            }
+            let _ = writeln!(h, "</div>");
+        }
     }
     let _ = writeln!(h, "<h2>Scenes</h2>");
     for scene in report.scenes() {

@@ -12,7 +12,7 @@ mod text;
 mod verdict;
 
 pub use text::format_report;
-pub use verdict::{as_good, group_verdict, leaks, scene_verdict};
+pub use verdict::{as_good, group_verdict, leaks, precision_lines, scene_verdict};
 use volsample::Sample;
 
 use crate::float_checks::FilterKind;
@@ -130,6 +130,9 @@ pub struct Row {
     pub continuous: Option<Errors>,
     /// Errors against the interpolated extinction field.
     pub field: Errors,
+    /// For a method of another precision than `f32`: its errors against the `f32` method of
+    /// the same mode and filter on the same scene (what the precision alone costs).
+    pub from_f32: Option<Errors>,
     /// Samples per image of the accuracy frame.
     pub samples: u64,
 }
@@ -411,7 +414,10 @@ pub fn run(opts: &Options) -> Result<Report, String> {
         let prepared = prepare(scene)?;
         let group = Group::of(&prepared);
         if plan.iter().any(|(_, p, _)| Group::of(p) == group) {
-            let methods = Method::all(prepared.post.is_some(), opts.full);
+            let methods: Vec<Method> = Method::all(prepared.post.is_some(), opts.full)
+                .into_iter()
+                .filter(Method::timed)
+                .collect();
             timing_plan.push((scene, prepared, methods));
         }
     }
@@ -442,6 +448,9 @@ pub fn run(opts: &Options) -> Result<Report, String> {
                 images::write_rgb_scaled(&d.join("truth-continuous.png"), w, h, c, k)?;
             }
         }
+        // The f32 images per (mode, filter), for the other precisions' `from_f32`
+        // (`Method::all` lists the f32 methods first).
+        let mut f32_images: Vec<(ModeChoice, FilterKind, Vec<[f32; 3]>)> = Vec::new();
         for m in methods {
             bar.set_message(format!("{}: {}", scene.name, m.label()));
             let r = pipeline::render(scene, prepared, *m)
@@ -460,12 +469,22 @@ pub fn run(opts: &Options) -> Result<Report, String> {
                     k,
                 )?;
             }
+            let from_f32 = if m.precision == Precision::F32 {
+                f32_images.push((m.mode, m.filter, img.clone()));
+                None
+            } else {
+                f32_images
+                    .iter()
+                    .find(|(mode, filter, _)| *mode == m.mode && *filter == m.filter)
+                    .map(|(_, _, f)| errors(&img, f))
+            };
             rows.push(Row {
                 scene: scene.name.clone(),
                 group: Group::of(prepared),
                 method: *m,
                 continuous: continuous.as_ref().map(|c| errors(&img, c)),
                 field: errors(&img, &field),
+                from_f32,
                 samples: r.samples,
             });
             bar.inc(1);
@@ -569,7 +588,14 @@ impl Report {
                     .collect::<Option<_>>()?;
                 let n = e.len() as f64;
                 let mean = |f: fn(&Errors) -> f64| e.iter().map(f).sum::<f64>() / n;
+                let from_f32: Option<Vec<f64>> = self
+                    .rows
+                    .iter()
+                    .filter(|r| r.group == group && r.method == m)
+                    .map(|r| r.from_f32.map(|e| e.rms))
+                    .collect();
                 Some(Summary {
+                    from_f32: from_f32.map(|v| v.iter().sum::<f64>() / n),
                     method: m,
                     errors: Errors {
                         rms: mean(|e| e.rms),
@@ -595,8 +621,21 @@ pub struct Summary {
     pub errors: Errors,
     /// ns/sample on the group's timing scene.
     pub ns: f64,
+    /// The mean RMS against the `f32` method of the same mode and filter, where every scene
+    /// has it ([`Row::from_f32`]).
+    pub from_f32: Option<f64>,
     /// Scenes averaged.
     pub scenes: usize,
+}
+
+/// The time and cost cells of a table row: ns/sample with one decimal and the ratio to the
+/// cheapest, or "-" for a method not timed (the emulated GPU texture unit).
+pub fn time_cells(ns: f64, cheapest: f64) -> (String, String) {
+    if ns.is_finite() {
+        (format!("{ns:.1}"), format!("{:.2}x", ns / cheapest))
+    } else {
+        ("-".into(), "-".into())
+    }
 }
 
 /// Whether a method is the paper's recommendation (for the plot's highlighting).

@@ -3,8 +3,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use super::verdict::precision_lines;
 use super::verdict::{group_verdict, scene_verdict};
-use super::{Errors, Group, Report, Row, Summary, Truth, VISIBLE_LEVELS};
+use super::{time_cells, Errors, Group, Report, Row, Summary, Truth, VISIBLE_LEVELS};
 use crate::pipeline::Method;
 
 fn errors_cells(e: Option<Errors>) -> String {
@@ -79,15 +80,13 @@ pub fn format_report(report: &Report) -> String {
             k(a).total_cmp(&k(b))
         });
         for r in sorted {
-            let ns = report.ns(group, &r.method);
+            let (ns, cost) = time_cells(report.ns(group, &r.method), cheapest);
             let _ = writeln!(
                 out,
-                "{:<40} {} {} {:>9.1} {:>5.2}x",
+                "{:<40} {} {} {ns:>9} {cost:>6}",
                 r.method.label(),
                 errors_cells(r.continuous),
                 errors_cells(Some(r.field)),
-                ns,
-                ns / cheapest
             );
         }
         for l in scene_verdict(report, scene) {
@@ -111,15 +110,17 @@ pub fn format_report(report: &Report) -> String {
         for x in order {
             let cont = c.iter().find(|y| y.method == x.method).map(|y| y.errors);
             let field = f.iter().find(|y| y.method == x.method).map(|y| y.errors);
+            let (ns, cost) = time_cells(x.ns, cheapest);
             let _ = writeln!(
                 out,
-                "{:<40} {} {} {:>9.1} {:>5.2}x",
+                "{:<40} {} {} {ns:>9} {cost:>6}",
                 x.method.label(),
                 errors_cells(cont),
                 errors_cells(field),
-                x.ns,
-                x.ns / cheapest
             );
+        }
+        for l in precision_lines(report, group) {
+            let _ = writeln!(out, "{l}");
         }
     }
     let _ = writeln!(out);
@@ -134,7 +135,7 @@ pub fn format_report(report: &Report) -> String {
 pub(super) fn write_outputs(out: &Path, report: &Report) -> Result<(), String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut csv = String::from(
-        "scene,group,mode,precision,filter,rms_continuous,p99_continuous,over8_continuous,rms_field,p99_field,over8_field,ns_per_sample,samples\n",
+        "scene,group,mode,precision,filter,rms_continuous,p99_continuous,over8_continuous,rms_field,p99_field,over8_field,rms_from_f32,ns_per_sample,samples\n",
     );
     let mut json = Vec::new();
     let cell = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.4}"));
@@ -145,7 +146,7 @@ pub(super) fn write_outputs(out: &Path, report: &Report) -> Result<(), String> {
         let ns = report.ns(r.group, &r.method);
         let _ = writeln!(
             csv,
-            "{},{},{mode},{precision},{filter},{},{},{},{:.4},{:.4},{:.4},{:.3},{}",
+            "{},{},{mode},{precision},{filter},{},{},{},{:.4},{:.4},{:.4},{},{:.3},{}",
             r.scene,
             r.group.label(),
             cell(r.continuous.map(|e| e.rms)),
@@ -154,6 +155,7 @@ pub(super) fn write_outputs(out: &Path, report: &Report) -> Result<(), String> {
             r.field.rms,
             r.field.p99,
             r.field.over,
+            cell(r.from_f32.map(|e| e.rms)),
             ns,
             r.samples
         );
@@ -162,7 +164,7 @@ pub(super) fn write_outputs(out: &Path, report: &Report) -> Result<(), String> {
         };
         json.push(serde_json::json!({
             "scene": r.scene, "group": r.group.label(), "mode": mode, "precision": precision, "filter": filter,
-            "continuous": e(r.continuous), "field": e(Some(r.field)), "ns_per_sample": ns, "samples": r.samples,
+            "continuous": e(r.continuous), "field": e(Some(r.field)), "from_f32": e(r.from_f32), "ns_per_sample": ns, "samples": r.samples,
         }));
     }
     let timings: Vec<_> = report

@@ -1,8 +1,8 @@
 //! The verdicts, computed from the report's numbers (never typed in).
 
-use super::{Group, Report, Row, Truth, VISIBLE_LEVELS};
+use super::{Group, Report, Row, Summary, Truth, VISIBLE_LEVELS};
 use crate::float_checks::FilterKind;
-use crate::pipeline::{Method, ModeChoice, Precision};
+use crate::pipeline::{Method, ModeChoice, Precision, INT_BITS_SWEEP, INT_TABLE_SWEEP};
 
 /// How close to the most accurate a method must be to count as "as good": within 5 % of its
 /// RMS or half a level, whichever is more.
@@ -172,6 +172,104 @@ pub fn group_verdict(report: &Report, group: Group) -> Vec<String> {
                 other.label(),
                 b.method.label(),
                 b.errors.rms
+            ));
+        }
+    }
+    out
+}
+
+/// The precision lines of a group, from its summary (means over its scenes, against the
+/// group's truth): error and time against the integer kernels' fractional position bits
+/// (`OpacityWeighted` trilinear), against the integer extinction tables' size, and the GPU
+/// texture unit's filtering against the `f32` filter on the same storage. Empty where the
+/// group has none of these rows.
+pub fn precision_lines(report: &Report, group: Group) -> Vec<String> {
+    let truth = report.truth_of(group);
+    let s = report.summary(group, truth);
+    let find = |mode, precision| {
+        s.iter().find(|x| {
+            x.method
+                == Method {
+                    mode,
+                    precision,
+                    filter: FilterKind::TrilinearSum,
+                }
+        })
+    };
+    let cell = |x: &Summary| {
+        let from = x
+            .from_f32
+            .map_or(String::new(), |f| format!("{f:.2} from f32, "));
+        if x.ns.is_finite() {
+            format!("{from}RMS {:.2} at {:.1} ns", x.errors.rms, x.ns)
+        } else {
+            format!("{from}RMS {:.2}", x.errors.rms)
+        }
+    };
+    let mut out = Vec::new();
+    let sweep = |mode, points: Vec<(String, Precision)>| -> Option<String> {
+        let cells: Vec<String> = points
+            .into_iter()
+            .filter_map(|(name, p)| find(mode, p).map(|x| format!("{name}: {}", cell(x))))
+            .collect();
+        (cells.len() > 1).then(|| cells.join("; "))
+    };
+    let mut bits: Vec<(u32, Precision)> = INT_BITS_SWEEP
+        .iter()
+        .map(|&b| (b, Precision::IntBits(b)))
+        .collect();
+    bits.push((crate::pipeline::INT_FRAC_BITS, Precision::Int8));
+    bits.sort_by_key(|x| x.0);
+    let f32_of = |mode| find(mode, Precision::F32).map(|x| format!(" (f32: {})", cell(x)));
+    if let Some(l) = sweep(
+        ModeChoice::OpacityWeighted,
+        bits.into_iter()
+            .map(|(b, p)| (format!("F={b}"), p))
+            .collect(),
+    ) {
+        out.push(format!(
+            "  precision, opacity-weighted trilinear, integer, by fractional position bits (RMS from the f32 image, and against the {}): {l}{}",
+            truth.label(),
+            f32_of(ModeChoice::OpacityWeighted).unwrap_or_default()
+        ));
+    }
+    let mut tables: Vec<(usize, Precision)> = INT_TABLE_SWEEP
+        .iter()
+        .map(|&n| (n, Precision::IntTable(n)))
+        .collect();
+    tables.push((crate::pipeline::INT_EXTINCTION_TABLE, Precision::Int8));
+    tables.sort_by_key(|x| x.0);
+    if let Some(l) = sweep(
+        ModeChoice::ExtinctionWeighted,
+        tables
+            .into_iter()
+            .map(|(n, p)| (format!("N={n}"), p))
+            .collect(),
+    ) {
+        out.push(format!(
+            "  precision, extinction trilinear, integer F=8, by table nodes (RMS from the f32 image, and against the {}): {l}{}",
+            truth.label(),
+            f32_of(ModeChoice::ExtinctionWeighted).unwrap_or_default()
+        ));
+    }
+    for (mode, storage) in [
+        (ModeChoice::Separate, "straight RGBA8 (separate)"),
+        (
+            ModeChoice::PreweightedU8,
+            "premultiplied RGBA8 (preweighted-u8)",
+        ),
+    ] {
+        if let (Some(g), Some(f)) = (find(mode, Precision::Texture8), find(mode, Precision::F32)) {
+            out.push(format!(
+                "  GPU texture unit (8-bit weights, f32 compositing, not timed) on {storage}: {}RMS {:.2}; the f32 filter on {}: RMS {:.2}",
+                g.from_f32.map_or(String::new(), |x| format!("{x:.2} from f32, ")),
+                g.errors.rms,
+                if mode == ModeChoice::Separate {
+                    "f32 straight voxels"
+                } else {
+                    "the same storage"
+                },
+                f.errors.rms
             ));
         }
     }

@@ -247,6 +247,11 @@ pub fn render(
             method.label(),
             m.label()
         )),
+        (p, _) => Err(format!(
+            "{}: precision {} is one of the report's rows, not rendered here (valid: f32, int)",
+            method.label(),
+            p.label()
+        )),
     }
 }
 
