@@ -2,7 +2,7 @@
 //! pieces the `volsample` CLI and the tests share.
 //!
 //! Without the default feature `app` only the models remain (`reference`, `int_model`,
-//! `tolerance`, `float_checks`, `checks`, `marcher_checks`), with no dependency beyond the core, `arbitrary` and
+//! `tolerance`, `float_checks`, `checks`, `kernel_checks`, `marcher_checks`), with no dependency beyond the core, `arbitrary` and
 //! std: the fuzz targets build it so. The feature `loaders` (part of `app`) adds the scenes, the
 //! file loaders and `parser_checks`, for the parser fuzz targets.
 
@@ -19,6 +19,7 @@ pub mod images;
 pub mod int_model;
 #[cfg(feature = "app")]
 pub mod isa;
+pub mod kernel_checks;
 #[cfg(feature = "app")]
 pub mod kraus;
 #[cfg(feature = "marcher-checks")]
