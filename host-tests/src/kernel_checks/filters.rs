@@ -12,9 +12,10 @@ use crate::tolerance;
 pub struct FilterInput {
     /// Dimensions, each `1 + x mod 5`.
     pub dims: [u8; 3],
-    /// Straight voxels `[r, g, b, a]`, each `x/65535`, repeated to fill the volume.
+    /// Straight voxels `[r, g, b, a]`, each `x/65535`; the voxels past the given ones follow a
+    /// fixed pattern ([`fill`]), so that a short input is not a constant volume.
     pub voxels: Vec<[u16; 4]>,
-    /// Scalars `255·x/65535`, repeated to fill the volume (one scalar 0 when empty).
+    /// Scalars `255·x/65535`, the ones past the given ones from the same pattern.
     pub scalars: Vec<u16>,
     /// Control points `[s, r, g, b, a]`: `s = 255·x/65536`, the others `x/65535`; sorted,
     /// points closer than `10⁻³` in `s` to the one before dropped, at most 5 (one black
@@ -24,11 +25,19 @@ pub struct FilterInput {
     pub d_ref: u16,
     /// Step of the extinction check at another distance: `10⁻³ + 8·x/65536`.
     pub d: u16,
-    /// Position per axis, `−1.5 + (n + 2)·x/65536` (one voxel and a half past each face).
+    /// Position per axis, `−1.5 + (n + 2)·((x + 2^15) mod 2^16)/65536` (one voxel and a half
+    /// past each face; `x = 0` is the middle).
     pub pos: [u16; 3],
     /// Or the position as `f32` bits (used when every coordinate is finite and within
     /// `±2^20`).
     pub pos_bits: Option<[u32; 3]>,
+}
+
+/// The voxel `i` of the fixed pattern that fills a volume past the input's voxels: a hash of
+/// `i` per channel (full range, not smooth).
+pub fn fill(i: usize) -> [u16; 4] {
+    let h = (i as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    [0, 16, 32, 48].map(|s| (h >> s) as u16)
 }
 
 impl FilterInput {
@@ -37,28 +46,16 @@ impl FilterInput {
         let dims = self.dims.map(|x| 1 + usize::from(x % 5));
         let n = dims[0] * dims[1] * dims[2];
         let unit = |x: u16| f32::from(x) / 65535.0;
-        let voxels = if self.voxels.is_empty() {
-            vec![[0u16; 4]; n]
-        } else {
-            self.voxels.iter().copied().cycle().take(n).collect()
-        };
-        let voxels = voxels
-            .iter()
+        let voxels = (0..n)
+            .map(|i| self.voxels.get(i).copied().unwrap_or_else(|| fill(i)))
             .map(|v| volsample::StraightF32 {
                 c: [unit(v[0]), unit(v[1]), unit(v[2])],
                 a: unit(v[3]),
             })
             .collect();
-        let scalars = if self.scalars.is_empty() {
-            vec![0.0; n]
-        } else {
-            self.scalars
-                .iter()
-                .cycle()
-                .take(n)
-                .map(|&x| 255.0 * unit(x))
-                .collect()
-        };
+        let scalars = (0..n)
+            .map(|i| 255.0 * unit(self.scalars.get(i).copied().unwrap_or(fill(i)[0])))
+            .collect();
         let mut pts: Vec<ControlPoint> = self
             .tf
             .iter()
@@ -86,7 +83,8 @@ impl FilterInput {
         let pos = match self.pos_bits.map(|b| b.map(f32::from_bits)) {
             Some(p) if p.iter().all(|x| x.is_finite() && x.abs() <= 1_048_576.0) => p,
             _ => std::array::from_fn(|k| {
-                -1.5 + (dims[k] as f32 + 2.0) * f32::from(self.pos[k]) / 65536.0
+                let x = self.pos[k].wrapping_add(1 << 15);
+                -1.5 + (dims[k] as f32 + 2.0) * f32::from(x) / 65536.0
             }),
         };
         (
