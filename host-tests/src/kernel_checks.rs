@@ -67,12 +67,19 @@ fn decode<'a, T: Arbitrary<'a> + Default>(data: &'a [u8]) -> T {
     T::arbitrary_take_rest(Unstructured::new(data)).unwrap_or_default()
 }
 
-/// The voxel bytes of a `dims` volume: `bytes` repeated (all zero when empty).
-fn cycled(bytes: &[[u8; 4]], n: usize) -> Vec<[u8; 4]> {
-    if bytes.is_empty() {
-        return vec![[0; 4]; n];
-    }
-    bytes.iter().copied().cycle().take(n).collect()
+/// The voxel bytes of a volume of `n` voxels: `bytes`, then past them the fixed pattern
+/// [`fill`], so that a short input is not a constant (or empty) volume.
+fn filled(bytes: &[[u8; 4]], n: usize) -> Vec<[u8; 4]> {
+    (0..n)
+        .map(|i| bytes.get(i).copied().unwrap_or_else(|| fill(i)))
+        .collect()
+}
+
+/// Voxel `i` of the pattern that fills a volume past an input's voxels: a hash of `i`, one
+/// byte per channel (full range, not smooth).
+pub fn fill(i: usize) -> [u8; 4] {
+    let h = (i as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    [8, 24, 40, 56].map(|s| (h >> s) as u8)
 }
 
 fn raw(s: &IntSample) -> cm::Raw {

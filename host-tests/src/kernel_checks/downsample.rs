@@ -13,7 +13,7 @@ use volsample::downsample::{
 use volsample::fixed_point::{ExtinctionFx, IntSample, ONE};
 use volsample::{AssociatedF32, AssociatedU8, ExtinctionF32, Volume};
 
-use super::{cycled, raw};
+use super::{filled, raw};
 use crate::int_model::downsample as dm;
 use crate::reference::downsample as rd;
 use crate::reference::{RefAssoc, RefExtinction};
@@ -34,7 +34,8 @@ pub struct DownsampleInput {
     pub tau_sel: u8,
     /// Largest optical depth of the integer extinction input: `255 << (x mod 19)` raw.
     pub depth_shift: u8,
-    /// Voxel bytes `[c0, c1, c2, α]`, repeated to fill the volume: float associated voxels
+    /// Voxel bytes `[c0, c1, c2, α]` (past them a fixed pattern, `kernel_checks::fill`): float
+    /// associated voxels
     /// (`α = 0, 1, x·10⁻⁷` for `x ≤ 8`, else `x/255`; `C̃ = (c/255)·α`), float extinction
     /// voxels (`τ = (α/255)·τ_max`, `C^τ = (c/255)·τ`) and the integer formats (`C̃ ≤ α`).
     pub voxels: Vec<[u8; 4]>,
@@ -337,7 +338,7 @@ fn int_chain<V: Copy + PartialEq + std::fmt::Debug, M: IntMethod<V>>(
 /// The first broken bound or disagreement, with the values.
 pub fn downsample(inp: &DownsampleInput) -> Result<u64, String> {
     let dims = inp.dims.map(|x| 1 + usize::from(x % 9));
-    let bytes = cycled(&inp.voxels, dims[0] * dims[1] * dims[2]);
+    let bytes = filled(&inp.voxels, dims[0] * dims[1] * dims[2]);
     let (filter, _) = float_filter(inp.a_bits)?;
     let tau_max = [1.0, 8.0, 64.0][usize::from(inp.tau_sel % 3)];
     let mut compared = float_chains(dims, &bytes, filter, tau_max)?;

@@ -15,7 +15,7 @@ use volsample::{
     Trilinear, Volume,
 };
 
-use super::{cycled, raw};
+use super::{filled, raw};
 use crate::int_model::{
     self, composite as cm, correction as corr_model, extinction as em, sample as sm,
 };
@@ -87,7 +87,7 @@ pub struct MarcherInput {
     pub a_stop: u16,
     /// Background `[r, g, b, a]`, reduced (`α mod (ONE + 1)`, each `C̃ mod (α + 1)`).
     pub background: [u16; 4],
-    /// Voxel bytes, repeated to fill the volume.
+    /// Voxel bytes; past them the volume is filled with a fixed pattern (`kernel_checks::fill`).
     pub voxels: Vec<[u8; 4]>,
     /// The rays (at most 16).
     pub rays: Vec<RayInput>,
@@ -145,7 +145,7 @@ impl MarcherInput {
             .map_err(|e| format!("background reduced out of range: {e}"))?;
         Ok(MarchCfg {
             dims,
-            bytes: cycled(&self.voxels, dims[0] * dims[1] * dims[2]),
+            bytes: filled(&self.voxels, dims[0] * dims[1] * dims[2]),
             frac_bits: [4, 8, 12][usize::from(self.frac_sel % 3)],
             step,
             d_ref,
