@@ -22,13 +22,19 @@ use crate::int_model::{
 };
 use crate::tolerance::integer as tol;
 
-/// The fuzz targets, by name (`fuzz/fuzz_targets/<name>.rs`, corpus in `fuzz/corpus/<name>/`).
-pub const TARGETS: [&str; 5] = [
+/// The fuzz targets, by name (`fuzz/fuzz_targets/<name>.rs`, corpus in `fuzz/corpus/<name>/`);
+/// the kernel-family ones ([`kernel_checks::TARGETS`](crate::kernel_checks::TARGETS)) are run
+/// by [`kernel_checks::run`](crate::kernel_checks::run).
+pub const TARGETS: [&str; 9] = [
     "premul_storage",
     "int_vs_float",
     "composite",
     "extinction",
     "marcher_packets",
+    "int_marcher",
+    "downsample",
+    "filters",
+    "classify",
 ];
 
 /// Decodes `data` as the fuzz target `target` does and runs its check.
@@ -47,6 +53,7 @@ pub fn run(target: &str, data: &[u8]) -> Result<(), String> {
         "marcher_packets" => {
             Err("marcher_packets: built without the feature marcher-checks".into())
         }
+        t if crate::kernel_checks::TARGETS.contains(&t) => crate::kernel_checks::run(t, data),
         _ => Err(format!("unknown fuzz target {target}")),
     }
 }

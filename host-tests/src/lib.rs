@@ -2,9 +2,11 @@
 //! pieces the `volsample` CLI and the tests share.
 //!
 //! Without the default feature `app` only the models remain (`reference`, `int_model`,
-//! `tolerance`, `float_checks`, `checks`, `marcher_checks`), with no dependency beyond the core, `arbitrary` and
-//! std: the fuzz targets build it so. The feature `loaders` (part of `app`) adds the scenes, the
-//! file loaders and `parser_checks`, for the parser fuzz targets.
+//! `tolerance`, `float_checks`, `checks`, `kernel_checks`), with no dependency beyond the
+//! core, `arbitrary` and std: the fuzz targets build it so. The feature `loaders` (part of
+//! `app`) adds the scenes, the file loaders and `parser_checks`, for the parser fuzz targets;
+//! `marcher-checks` the marcher checks (`marcher_checks`, the `int_marcher` check); `testing`
+//! (the tests and benches, never the CLI) those and the proptest strategies and edge cases.
 
 pub mod checks;
 #[cfg(feature = "app")]
@@ -19,6 +21,7 @@ pub mod images;
 pub mod int_model;
 #[cfg(feature = "app")]
 pub mod isa;
+pub mod kernel_checks;
 #[cfg(feature = "app")]
 pub mod kraus;
 #[cfg(feature = "marcher-checks")]
