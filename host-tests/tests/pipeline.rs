@@ -82,13 +82,46 @@ fn assert_same(a: &(Vec<Sample>, u64), b: &(Vec<Sample>, u64), what: &str) {
     }
 }
 
+/// The scene's voxels `data` as a volume at the scene's reference distance.
+fn scene_volume<'v, V: volsample::voxel::Voxel>(data: &'v [V], s: &Scene) -> Volume<'v, V> {
+    Volume::new(data, s.dims)
+        .unwrap()
+        .with_reference_distance(s.d_ref)
+        .unwrap()
+}
+
+/// The integer pipeline's stages for the scene: the step, the stop at `A_stop = 0.9` in U8.8
+/// (round half up) and the U8.8 background.
+fn int_stages(s: &Scene) -> (Step, IntStop, IntSample) {
+    let step = Step::new(s.step).unwrap();
+    let stop = IntStop::new((0.9f64 * 65280.0 + 0.5).floor() as u16).unwrap();
+    (step, stop, int_background(s.background).unwrap())
+}
+
+/// The pipeline frame of `m` equals the core integer marcher's `cast` of every pixel's ray.
+fn assert_int_frame(
+    s: &Scene,
+    p: &Prepared,
+    cast: impl Fn(&volsample::Ray) -> (IntSample, u32),
+    m: Method,
+    what: &str,
+) {
+    let want = direct(s, cast, |x: IntSample| x.to_f32());
+    assert_same(&pipeline_frame(s, p, m), &want, what);
+}
+
+/// The scene's voxels as the integer extinction mode reads them.
+fn extinction_fx(straight: &[volsample::StraightU8]) -> Vec<ExtinctionFx> {
+    straight
+        .iter()
+        .map(|&v| ExtinctionFx::from_straight_u8(v))
+        .collect()
+}
+
 #[test]
 fn float_frames_are_the_core_ray_marcher() {
     let (s, p) = scene();
-    let vol = Volume::new(&p.rgba, s.dims)
-        .unwrap()
-        .with_reference_distance(s.d_ref)
-        .unwrap();
+    let vol = scene_volume(&p.rgba, &s);
     let step = Step::new(s.step).unwrap();
     let order = FrontToBack::with_threshold(s.a_stop).unwrap();
     let m = RayMarcher::new(vol, OpacityWeighted, Trilinear::new(), order, step)
@@ -123,17 +156,11 @@ fn float_frames_are_the_core_ray_marcher() {
 #[test]
 fn integer_frames_are_the_core_int_ray_marcher() {
     let (s, p) = scene();
-    let step = Step::new(s.step).unwrap();
-    let stop = IntStop::new((0.9f64 * 65280.0 + 0.5).floor() as u16).unwrap();
-    let bg = int_background(s.background).unwrap();
+    let (step, stop, bg) = int_stages(&s);
     assert_eq!(bg, IntSample::new([0; 3], 65280).unwrap());
-    let to = |x: IntSample| x.to_f32();
 
     let straight = straight_u8(&p.rgba);
-    let vol = Volume::new(&straight, s.dims)
-        .unwrap()
-        .with_reference_distance(s.d_ref)
-        .unwrap();
+    let vol = scene_volume(&straight, &s);
     let m = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(
         vol,
         OpacityWeighted,
@@ -144,34 +171,31 @@ fn integer_frames_are_the_core_int_ray_marcher() {
     .unwrap()
     .with_background(bg);
     assert!(m.correction().is_some());
-    let want = direct(&s, |r| m.cast_counted(r), to);
-    let got = pipeline_frame(
+    assert_int_frame(
         &s,
         &p,
+        |r| m.cast_counted(r),
         method(
             ModeChoice::OpacityWeighted,
             Precision::Int8,
             FilterKind::TrilinearSum,
         ),
+        "OW int trilinear",
     );
-    assert_same(&got, &want, "OW int trilinear");
 
     let m = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(vol, Separate, Nearest, stop, step)
         .unwrap()
         .with_background(bg);
-    let want = direct(&s, |r| m.cast_counted(r), to);
-    let got = pipeline_frame(
+    assert_int_frame(
         &s,
         &p,
+        |r| m.cast_counted(r),
         method(ModeChoice::Separate, Precision::Int8, FilterKind::Nearest),
+        "Separate int nearest",
     );
-    assert_same(&got, &want, "Separate int nearest");
 
     let assoc = associated_u8(&p.rgba);
-    let avol = Volume::new(&assoc, s.dims)
-        .unwrap()
-        .with_reference_distance(s.d_ref)
-        .unwrap();
+    let avol = scene_volume(&assoc, &s);
     let m = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(
         avol,
         Preweighted,
@@ -181,26 +205,20 @@ fn integer_frames_are_the_core_int_ray_marcher() {
     )
     .unwrap()
     .with_background(bg);
-    let want = direct(&s, |r| m.cast_counted(r), to);
-    let got = pipeline_frame(
+    assert_int_frame(
         &s,
         &p,
+        |r| m.cast_counted(r),
         method(
             ModeChoice::PreweightedU8,
             Precision::Int8,
             FilterKind::TrilinearSum,
         ),
+        "Preweighted-u8 int trilinear",
     );
-    assert_same(&got, &want, "Preweighted-u8 int trilinear");
 
-    let ext: Vec<ExtinctionFx> = straight
-        .iter()
-        .map(|&v| ExtinctionFx::from_straight_u8(v))
-        .collect();
-    let evol = Volume::new(&ext, s.dims)
-        .unwrap()
-        .with_reference_distance(s.d_ref)
-        .unwrap();
+    let ext = extinction_fx(&straight);
+    let evol = scene_volume(&ext, &s);
     let tables = ExtinctionTables::<INT_EXTINCTION_TABLE>::new();
     let m = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(
         evol,
@@ -213,17 +231,17 @@ fn integer_frames_are_the_core_int_ray_marcher() {
     .with_background(bg);
     // The extinction mode folds d/d′ into the optical depth: no separate correction.
     assert!(m.correction().is_none());
-    let want = direct(&s, |r| m.cast_counted(r), to);
-    let got = pipeline_frame(
+    assert_int_frame(
         &s,
         &p,
+        |r| m.cast_counted(r),
         method(
             ModeChoice::ExtinctionWeighted,
             Precision::Int8,
             FilterKind::TrilinearSum,
         ),
+        "Extinction int trilinear",
     );
-    assert_same(&got, &want, "Extinction int trilinear");
 }
 
 /// The termination stage really ends rays early in the integer pipeline (so the equality
@@ -325,38 +343,26 @@ fn every_listed_method_builds() {
 #[test]
 fn sweep_frames_are_the_core_int_ray_marcher_at_their_bits_and_tables() {
     let (s, p) = scene();
-    let step = Step::new(s.step).unwrap();
-    let stop = IntStop::new((0.9f64 * 65280.0 + 0.5).floor() as u16).unwrap();
-    let bg = int_background(s.background).unwrap();
-    let to = |x: IntSample| x.to_f32();
+    let (step, stop, bg) = int_stages(&s);
     let straight = straight_u8(&p.rgba);
-    let vol = Volume::new(&straight, s.dims)
-        .unwrap()
-        .with_reference_distance(s.d_ref)
-        .unwrap();
+    let vol = scene_volume(&straight, &s);
     let m = IntRayMarcher::<_, _, _, 4>::new(vol, OpacityWeighted, Trilinear::new(), stop, step)
         .unwrap()
         .with_background(bg);
-    let want = direct(&s, |r| m.cast_counted(r), to);
-    let got = pipeline_frame(
+    assert_int_frame(
         &s,
         &p,
+        |r| m.cast_counted(r),
         method(
             ModeChoice::OpacityWeighted,
             Precision::IntBits(4),
             FilterKind::TrilinearSum,
         ),
+        "OW int F=4 trilinear",
     );
-    assert_same(&got, &want, "OW int F=4 trilinear");
 
-    let ext: Vec<ExtinctionFx> = straight
-        .iter()
-        .map(|&v| ExtinctionFx::from_straight_u8(v))
-        .collect();
-    let evol = Volume::new(&ext, s.dims)
-        .unwrap()
-        .with_reference_distance(s.d_ref)
-        .unwrap();
+    let ext = extinction_fx(&straight);
+    let evol = scene_volume(&ext, &s);
     let tables = ExtinctionTables::<17>::new();
     let m = IntRayMarcher::<_, _, _, INT_FRAC_BITS>::new(
         evol,
@@ -367,17 +373,17 @@ fn sweep_frames_are_the_core_int_ray_marcher_at_their_bits_and_tables() {
     )
     .unwrap()
     .with_background(bg);
-    let want = direct(&s, |r| m.cast_counted(r), to);
-    let got = pipeline_frame(
+    assert_int_frame(
         &s,
         &p,
+        |r| m.cast_counted(r),
         method(
             ModeChoice::ExtinctionWeighted,
             Precision::IntTable(17),
             FilterKind::TrilinearSum,
         ),
+        "Extinction int N=17 trilinear",
     );
-    assert_same(&got, &want, "Extinction int N=17 trilinear");
 }
 
 /// RMS over pixels and channels of the displayed difference, in 8-bit levels.

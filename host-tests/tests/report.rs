@@ -135,6 +135,26 @@ fn row(scene: &str, m: Method, rms: f64) -> Row {
     }
 }
 
+/// The time of `m` on a made-up timing scene of the RGBA group.
+fn timing(m: Method, ns: f64) -> Timing {
+    Timing {
+        group: Group::Rgba,
+        scene: "timing".into(),
+        sizes: ([4; 3], [4, 4]),
+        method: m,
+        ns_per_sample: ns,
+        samples: 1,
+    }
+}
+
+fn test_machine() -> Machine {
+    Machine {
+        isa: Isa::BASELINE,
+        threads: 1,
+        cpu: "test".into(),
+    }
+}
+
 #[test]
 fn the_verdict_picks_the_cheapest_method_as_good_as_the_best() {
     let ow = method(ModeChoice::OpacityWeighted, FilterKind::TrilinearSum);
@@ -156,28 +176,16 @@ fn the_verdict_picks_the_cheapest_method_as_good_as_the_best() {
         row("b", bsp, 2.0),
         row("b", near, 9.0),
     ];
-    let t = |m, ns| Timing {
-        group: Group::Rgba,
-        scene: "timing".into(),
-        sizes: ([4; 3], [4, 4]),
-        method: m,
-        ns_per_sample: ns,
-        samples: 1,
-    };
     let r = Report {
         rows,
         timings: vec![
-            t(ow, 10.0),
-            t(sep, 9.0),
-            t(ext, 12.0),
-            t(bsp, 50.0),
-            t(near, 5.0),
+            timing(ow, 10.0),
+            timing(sep, 9.0),
+            timing(ext, 12.0),
+            timing(bsp, 50.0),
+            timing(near, 5.0),
         ],
-        machine: Machine {
-            isa: Isa::BASELINE,
-            threads: 1,
-            cpu: "test".into(),
-        },
+        machine: test_machine(),
     };
     assert_eq!(r.truth_of(Group::Rgba), Truth::Continuous);
     let v = group_verdict(&r, Group::Rgba);
@@ -290,28 +298,16 @@ fn precision_lines_list_error_and_time_against_bits() {
         row("a", at(ModeChoice::Separate, Precision::Texture8), 5.0),
         row("a", at(ModeChoice::Separate, Precision::F32), 4.0),
     ];
-    let t = |m, ns| Timing {
-        group: Group::Rgba,
-        scene: "timing".into(),
-        sizes: ([4; 3], [4, 4]),
-        method: m,
-        ns_per_sample: ns,
-        samples: 1,
-    };
     let r = Report {
         rows,
         timings: vec![
-            t(ow(Precision::IntBits(4)), 4.1),
-            t(ow(Precision::Int8), 4.0),
-            t(ow(Precision::IntBits(12)), 4.2),
-            t(ow(Precision::F32), 6.0),
-            t(at(ModeChoice::Separate, Precision::F32), 5.5),
+            timing(ow(Precision::IntBits(4)), 4.1),
+            timing(ow(Precision::Int8), 4.0),
+            timing(ow(Precision::IntBits(12)), 4.2),
+            timing(ow(Precision::F32), 6.0),
+            timing(at(ModeChoice::Separate, Precision::F32), 5.5),
         ],
-        machine: Machine {
-            isa: Isa::BASELINE,
-            threads: 1,
-            cpu: "test".into(),
-        },
+        machine: test_machine(),
     };
     let l = report::precision_lines(&r, Group::Rgba);
     assert_eq!(l.len(), 2, "{l:?}");
