@@ -111,11 +111,10 @@ pub fn classify(t: [f32; 4], texels: Texels) -> Sample {
     }
 }
 
-/// The ray marching of a fragment shader over the texture: the marcher `m`'s sample
-/// positions along `ray` (its [`sample_range`](volsample::RayMarcher::sample_range) and step
+/// The ray marching of a fragment shader over the texture: a core marcher's sample positions
+/// along each ray (its [`sample_range`](volsample::RayMarcher::sample_range) and the step
 /// `d`), each sample fetched by the texture unit, corrected for `d/d′` where `ratio` is given,
-/// composited front to back in `f32` until `A ≥ a_stop`, then over `background`. Returns the
-/// pixel and the number of samples taken.
+/// composited front to back in `f32` until `A ≥ a_stop`, then over `background`.
 pub struct Shader<'v, V> {
     /// The texture.
     pub volume: Volume<'v, V>,
@@ -135,7 +134,8 @@ pub struct Shader<'v, V> {
 
 impl<V: volsample::voxel::Voxel + Bytes> Shader<'_, V> {
     /// One ray, given its first sample's `t` and sample count (the core marcher's
-    /// [`sample_range`](volsample::RayMarcher::sample_range)).
+    /// [`sample_range`](volsample::RayMarcher::sample_range)): the pixel and the number of
+    /// samples taken.
     pub fn cast(&self, ray: &Ray, (t_first, n): (f32, u32)) -> (Sample, u32) {
         let mut acc = Sample::TRANSPARENT;
         let mut taken = n;
