@@ -38,28 +38,6 @@ fn unit16(bits: u32) -> f32 {
     f32::from((bits & 0xffff) as u16) / 65535.0
 }
 
-/// The exact light factor `min(1, k_a + k_d·|n·L|)` for the gradient `g` (1 for `|n·L|`
-/// when `g = 0`), lengths scaled so that `f64` does not overflow.
-fn exact_factor(g: [f64; 3], dir: [f32; 3], ka: f32, kd: f32) -> f64 {
-    let len = |v: [f64; 3]| {
-        let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        if m == 0.0 {
-            0.0
-        } else {
-            m * v.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
-        }
-    };
-    let d = dir.map(f64::from);
-    let (lg, ld) = (len(g), len(d));
-    let cos = if lg == 0.0 {
-        1.0
-    } else {
-        let dot: f64 = g.iter().zip(d).map(|(a, b)| (a / lg) * (b / ld)).sum();
-        dot.abs().min(1.0)
-    };
-    (f64::from(ka) + f64::from(kd) * cos).min(1.0)
-}
-
 /// The bound of `TransferFunction::eval` at `s`: `TF_EVAL_BASE + L·TF_EVAL_PER_SLOPE·m`, `L`
 /// the slope of the segment holding `s` and `m` the largest of `|s|` and its ends.
 fn tf_bound(points: &[ControlPoint], s: f32) -> f64 {
@@ -89,8 +67,8 @@ fn tf_bound(points: &[ControlPoint], s: f32) -> f64 {
 /// The first bound exceeded or wrong refusal, with the values.
 pub fn classify(inp: &ClassifyInput) -> Result<u64, String> {
     use crate::reference::{
-        central_gradient, levoy_opacities, RefControlPoint, RefIsosurface, RefScalarVolume,
-        RefTransferFunction,
+        central_gradient, levoy_opacities, shade_factor, RefControlPoint, RefIsosurface,
+        RefScalarVolume, RefTransferFunction,
     };
     use crate::tolerance::hard_cases as hc;
     use volsample::classify::{classify_isosurface, classify_transfer, Isosurface};
@@ -202,7 +180,7 @@ pub fn classify(inp: &ClassifyInput) -> Result<u64, String> {
             (i / dims[0]) % dims[1],
             i / (dims[0] * dims[1]),
         ];
-        let k = exact_factor(central_gradient(dims, &rvol.scalars, p), dir, ka, kd);
+        let k = shade_factor(central_gradient(dims, &rvol.scalars, p), dir, ka, kd);
         for (ch, (&c, &c0)) in got.c.iter().zip(c0).enumerate() {
             compared += 1;
             let want = (f64::from(c0) * k).clamp(0.0, 1.0);

@@ -90,6 +90,30 @@ pub fn levoy_classify(vol: &RefScalarVolume, iso: RefIsosurface, color: [f64; 3]
     }
 }
 
+/// The exact light factor of the shading pre-pass, `min(1, k_a + k_d·|n·L|)`, for the
+/// gradient `g` and the light direction `dir` as given (both normalised here; `|n·L| = 1`
+/// where `g = 0`). Lengths are scaled by their largest component, so that `f64` does not
+/// overflow for `f32::MAX` components either.
+pub fn shade_factor(g: [f64; 3], dir: [f32; 3], ka: f32, kd: f32) -> f64 {
+    let len = |v: [f64; 3]| {
+        let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if m == 0.0 {
+            0.0
+        } else {
+            m * v.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
+        }
+    };
+    let d = dir.map(f64::from);
+    let (lg, ld) = (len(g), len(d));
+    let cos = if lg == 0.0 {
+        1.0
+    } else {
+        let dot: f64 = g.iter().zip(d).map(|(a, b)| (a / lg) * (b / ld)).sum();
+        dot.abs().min(1.0)
+    };
+    (f64::from(ka) + f64::from(kd) * cos).min(1.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -64,7 +64,9 @@ mod vec3;
 pub mod volume;
 
 pub use camera::{camera_ray, RefCamera};
-pub use classify::{central_gradient, levoy_classify, levoy_opacities, RefIsosurface};
+pub use classify::{
+    central_gradient, levoy_classify, levoy_opacities, shade_factor, RefIsosurface,
+};
 pub use composite::{
     composite_back_to_front, composite_front_to_back, front_to_back_used, over, over_background,
 };

@@ -38,8 +38,8 @@ use volsample_host::edge_cases::{
     any_edge, next_down, next_up, specials, unit_edge, MAX_SUBNORMAL, MIN_SUBNORMAL,
 };
 use volsample_host::reference::{
-    central_gradient, levoy_opacities, RefControlPoint, RefIsosurface, RefScalarVolume,
-    RefTransferFunction,
+    central_gradient, levoy_opacities, shade_factor, RefControlPoint, RefIsosurface,
+    RefScalarVolume, RefTransferFunction,
 };
 use volsample_host::tolerance::{self as tol, hard_cases as hc};
 
@@ -413,33 +413,6 @@ fn gradient_at_the_edges() {
 // ---------------------------------------------------------------------------------------------
 // Shading.
 
-/// `min(1, k_a + k_d·|n·L|)` in f64 for the exact gradient `g` and the light direction `dir`
-/// as given (normalised here); `|n·L| = 1` where `g = 0`.
-fn exact_factor(g: [f64; 3], dir: [f32; 3], ka: f32, kd: f32) -> f64 {
-    let len = |v: [f64; 3]| {
-        // Scaled, so that f64 does not overflow for f32::MAX components either.
-        let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        if m == 0.0 {
-            0.0
-        } else {
-            m * v.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
-        }
-    };
-    let d = dir.map(f64::from);
-    let (lg, ld) = (len(g), len(d));
-    let cos = if lg == 0.0 {
-        1.0
-    } else {
-        let dot: f64 = g
-            .iter()
-            .zip(d.iter())
-            .map(|(a, b)| (a / lg) * (b / ld))
-            .sum();
-        dot.abs().min(1.0)
-    };
-    (f64::from(ka) + f64::from(kd) * cos).min(1.0)
-}
-
 fn lights() -> Vec<([f32; 3], f32, f32)> {
     let dirs = [
         [0.0f32, 0.0, 1.0],
@@ -490,7 +463,7 @@ fn shade_case(w: &mut Worst, dims: [usize; 3], field: &[f32], (dir, ka, kd): ([f
             (i / dims[0]) % dims[1],
             i / (dims[0] * dims[1]),
         ];
-        let k = exact_factor(central_gradient(dims, &r.scalars, p), dir, ka, kd);
+        let k = shade_factor(central_gradient(dims, &r.scalars, p), dir, ka, kd);
         for (ch, (&c, &c0)) in got.c.iter().zip(colors[i % 2].iter()).enumerate() {
             assert!(c.is_finite() && (0.0..=1.0).contains(&c));
             let want = (f64::from(c0) * k).clamp(0.0, 1.0);
@@ -543,7 +516,7 @@ fn light_factor_at_extreme_gradients() {
         let bound = tol::LIGHT_FACTOR_ABS * f64::from(kd).max(1.0);
         for g in gs {
             let got = f64::from(light.factor(g));
-            let want = exact_factor(g.map(f64::from), dir, ka, kd);
+            let want = shade_factor(g.map(f64::from), dir, ka, kd);
             w.check((got - want).abs(), bound, || {
                 format!("g={g:?} dir={dir:?} k_a={ka:e} k_d={kd:e}: {got} vs {want}")
             });
