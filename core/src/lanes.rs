@@ -59,6 +59,9 @@ pub trait Lanes: Num {
     /// `self < other` per lane (false where either is NaN).
     fn lt(self, other: Self) -> Self::Mask;
 
+    /// `self / other` per lane (IEEE division, correctly rounded in every instance).
+    fn div(self, other: Self) -> Self;
+
     /// Whether every lane of `m` is set.
     fn all(m: Self::Mask) -> bool;
 
@@ -86,6 +89,11 @@ impl Lanes for f32 {
     #[inline(always)]
     fn lt(self, other: Self) -> bool {
         self < other
+    }
+
+    #[inline(always)]
+    fn div(self, other: Self) -> Self {
+        self / other
     }
 
     #[inline(always)]
@@ -154,6 +162,11 @@ mod repr {
     #[inline(always)]
     pub fn mul(a: Repr, b: Repr) -> Repr {
         zip(a, b, |x, y| x * y)
+    }
+
+    #[inline(always)]
+    pub fn div(a: Repr, b: Repr) -> Repr {
+        zip(a, b, |x, y| x / y)
     }
 
     #[inline(always)]
@@ -285,6 +298,11 @@ impl Lanes for F32x4 {
     fn lt(self, other: Self) -> [bool; 4] {
         let ([a0, a1, a2, a3], [b0, b1, b2, b3]) = (self.to_array(), other.to_array());
         [a0 < b0, a1 < b1, a2 < b2, a3 < b3]
+    }
+
+    #[inline(always)]
+    fn div(self, other: Self) -> Self {
+        Self(repr::div(self.0, other.0))
     }
 
     #[inline(always)]

@@ -6,13 +6,15 @@
 //!   `α_d = −expm1((d/d′)·ln1p(−α))` and `α_d/α = (d/d′)·φ(x)·ψ(α)` with
 //!   `x = −(d/d′)·ln1p(−α)` and `ψ(α) = −ln1p(−α)/α`, which is finite for every `α < 1`
 //!   (it tends to `d/d′` as `α → 0`) and needs no special case below `α = 1`; for `x ≥ 1`
-//!   as `C̃_d = (C̃/α)·α_d`, which stays finite when `x` overflows (`d′ → 0`).
+//!   as `C̃_d = (C̃/α)·α_d`, which stays finite when `x` overflows (`d′ → 0`). Below
+//!   `α = 1/2` and `x = 1` (thin samples, most of a volume's), `ψ` and `φ` come from series
+//!   instead of `log1pf` and `expm1f`, so that the kernels' lanes compute it too.
 //! * [`Correction`]: the stage chosen by type; [`Uncorrected`] is the identity and costs
 //!   nothing when `d = d′`.
 
 use crate::lanes::Lanes;
 use crate::num::Num;
-use crate::sample::{clamp01, Interp, Sample};
+use crate::sample::{clamp01, clamped, Interp, Sample};
 
 /// Below this `x`, [`phi`] uses its Taylor polynomial `1 − x/2 + x²/6 − x³/24`.
 ///
@@ -95,8 +97,71 @@ fn psi(a: f32) -> f32 {
     }
 }
 
+/// Below this `α` (and where `x = −(d/d′)·ln(1 − α)` is below [`PHI_POLY_BELOW`]),
+/// [`correct`] takes `ψ(α)` from a series (that of `atanh`) and `φ(x)` from [`phi_poly`]: no
+/// `log1pf`, no `expm1f`, no branch but the test, so that it runs in lanes.
+pub const PSI_SERIES_BELOW: f32 = 0.5;
+
+/// `1/(2k + 1)` for `k = 0 … 7`, each the nearest `f32`: the coefficients of
+/// `P(t) = Σ tᵏ/(2k + 1)`, the series of `atanh(s)/s` in `t = s²`.
+const ATANH_SERIES: [f32; 8] = [
+    1.0,
+    1.0 / 3.0,
+    1.0 / 5.0,
+    1.0 / 7.0,
+    1.0 / 9.0,
+    1.0 / 11.0,
+    1.0 / 13.0,
+    1.0 / 15.0,
+];
+
+/// `ψ(α) = −ln(1 − α)/α` for `0 ≤ α < 1/2` ([`PSI_SERIES_BELOW`]) in any [`Lanes`]: with
+/// `q = 1/(2 − α)` and `s = α·q` (so that `1 − α = (1 − s)/(1 + s)`), `−ln(1 − α) =
+/// 2·atanh(s) = 2s·P(s²)`, hence `ψ = 2·P(s²)·q`, with `P` ([`ATANH_SERIES`]) to degree 7 in
+/// Estrin's form. For `α < 1/2`, `s < 1/3` and `t = s² < 1/9`: the terms left out sum to
+/// less than `t⁸/(17·(1 − t)) < 1.6·10⁻⁹` relative. One division; every other operation an
+/// IEEE `f32` `+` or `×` (no fused multiply-add), so every lane rounds it as the scalar does.
+#[inline(always)]
+fn psi_series_in<T: Lanes>(a: T) -> T {
+    let [c0, c1, c2, c3, c4, c5, c6, c7] = ATANH_SERIES.map(T::from_f32);
+    let q = T::ONE.div(T::from_f32(2.0) - a);
+    let s = a * q;
+    let t = s * s;
+    let t2 = t * t;
+    let t4 = t2 * t2;
+    let low = (c0 + c1 * t) + (c2 + c3 * t) * t2;
+    let high = (c4 + c5 * t) + (c6 + c7 * t) * t2;
+    let p = low + high * t4;
+    (p + p) * q
+}
+
+/// [`correct`]'s series form, in any [`Lanes`]: `ψ` by [`psi_series_in`], `x = r·(α·ψ)`,
+/// `φ = phi_poly(x)`, `α_d = x·φ`, `C̃_d = C̃·((r·φ)·ψ)`, clamped; and `x`, which with `α`
+/// says where the form holds (`0 ≤ α < 1/2`, `x < 1`; for `α ≤ 0` the clamp gives the
+/// transparent sample).
+#[inline(always)]
+fn correct_series_in<T: Lanes>(i: Interp<T>, ratio: f32) -> (T, Interp<T>) {
+    let r = T::from_f32(ratio);
+    let psi = psi_series_in(i.a);
+    let x = r * (i.a * psi);
+    let phi = phi_poly_in(x);
+    let gain = (r * phi) * psi;
+    let [c0, c1, c2] = i.c;
+    let out = Interp {
+        c: [c0 * gain, c1 * gain, c2 * gain],
+        a: x * phi,
+    };
+    (x, crate::sample::clamped(out))
+}
+
 /// Corrects an associated sample whose opacity holds for `d′` to the step `d`, where
 /// `ratio = d/d′`: `α_d = 1 − (1 − α)^ratio`, `C̃_d = C̃·α_d/α`.
+///
+/// With `x = −ratio·ln(1 − α)`: for `α < 1/2` ([`PSI_SERIES_BELOW`]) and `x < 1`, by series
+/// with no `libm` call (`ψ(α) = −ln(1 − α)/α` from the series of `atanh`, `φ` by
+/// [`phi_poly`], `α_d = x·φ(x)`, `C̃_d = C̃·ratio·φ(x)·ψ(α)`), the form the kernels' lanes
+/// compute; otherwise `α_d = −expm1(−x)` with `x = −ratio·ln1p(−α)`, and
+/// `C̃_d = C̃·ratio·φ(x)·ψ(α)` below `x = 1`, `C̃_d = (C̃/α)·α_d` from there on.
 ///
 /// Stable for every `α ∈ [0, 1]` and every finite `ratio > 0`: `α = 0` gives 0, `α = 1`
 /// gives `α_d = 1` and `C̃_d = C̃`, subnormal `α` gives `C̃·ratio`, and no intermediate is
@@ -108,12 +173,22 @@ fn psi(a: f32) -> f32 {
 /// the tests).
 #[inline]
 pub fn correct(s: Sample, ratio: f32) -> Sample {
-    let a = s.a;
+    correct_one(s.into(), ratio).into()
+}
+
+/// [`correct`] of one sample's quantities.
+#[inline]
+fn correct_one(i: Interp<f32>, ratio: f32) -> Interp<f32> {
+    let (x, series) = correct_series_in(i, ratio);
+    let a = i.a;
+    if a < PSI_SERIES_BELOW && x < PHI_POLY_BELOW {
+        return series;
+    }
     if a >= 1.0 {
-        return Sample::clamped(s.c, 1.0);
+        return clamped(Interp { c: i.c, a: 1.0 });
     }
     if a <= 0.0 {
-        return Sample::TRANSPARENT;
+        return Sample::TRANSPARENT.into();
     }
     let x = -ratio * libm::log1pf(-a);
     let a_d = clamp01(-libm::expm1f(-x));
@@ -121,10 +196,35 @@ pub fn correct(s: Sample, ratio: f32) -> Sample {
         // Dense: `C̃_d = (C̃/α)·α_d`, the straight color times `α_d` (as `integrate_step`
         // does for `τd ≥ 1`). The gain `ratio·φ(x)·ψ(α)` below would be `∞·0` once `x`
         // overflows (`d/d′ ≳ 10³⁷`, i.e. `d′ → 0`) and turned dense color black.
-        return Sample::clamped(s.c.map(|c| (c / a) * a_d), a_d);
+        return clamped(Interp {
+            c: i.c.map(|c| (c / a) * a_d),
+            a: a_d,
+        });
     }
     let gain = ratio * phi(x) * psi(a);
-    Sample::clamped(s.c.map(|c| c * gain), a_d)
+    clamped(Interp {
+        c: i.c.map(|c| c * gain),
+        a: a_d,
+    })
+}
+
+/// [`correct`] in any [`Lanes`], bit-identical to it lane by lane: the series form where
+/// every lane has `α < 1/2` and `x < 1`, otherwise each lane by [`correct`] (out of line).
+#[inline(always)]
+pub(crate) fn correct_in<T: Lanes>(i: Interp<T>, ratio: f32) -> Interp<T> {
+    let (x, series) = correct_series_in(i, ratio);
+    if T::all(i.a.lt(T::from_f32(PSI_SERIES_BELOW))) && T::all(x.lt(T::from_f32(PHI_POLY_BELOW))) {
+        series
+    } else {
+        correct_per_lane(i, ratio)
+    }
+}
+
+/// [`correct`] of each lane ([`correct_in`] where some lane is outside the series form).
+#[cold]
+#[inline(never)]
+fn correct_per_lane<T: Lanes>(i: Interp<T>, ratio: f32) -> Interp<T> {
+    crate::sample::per_lane(i, |l| correct_one(l, ratio))
 }
 
 mod sealed {
@@ -188,5 +288,10 @@ impl Correction for Corrected {
     #[inline(always)]
     fn apply(&self, s: Sample) -> Sample {
         correct(s, self.ratio)
+    }
+
+    #[inline(always)]
+    fn apply_in<T: Lanes>(&self, s: Interp<T>) -> Interp<T> {
+        correct_in(s, self.ratio)
     }
 }

@@ -73,6 +73,16 @@ pub trait Voxel: Copy {
         let _ = data;
         None
     }
+
+    /// `data` itself where `Self` is [`StraightF32`], `None` for every other format: lets the
+    /// eight-ray lane kernel (the AVX2 instance) read such a voxel as one 16-byte vector (a
+    /// `StraightF32` is `repr(C)`: its four `f32` in order). Not meant to be overridden.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn as_straight_f32(data: &[Self]) -> Option<&[StraightF32]> {
+        let _ = data;
+        None
+    }
 }
 
 /// A voxel holding straight (unweighted) color and opacity.
@@ -141,8 +151,12 @@ fn check_unit(x: f32) -> Result<(), VoxelFault> {
 }
 
 /// Straight color and opacity in `f32`.
+///
+/// `repr(C)`: four `f32` in memory, red, green, blue, then `α` (16 bytes, the layout a C
+/// caller can rely on, and the eight-lane kernel reads as one vector).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(C)]
 pub struct StraightF32 {
     /// Straight color `C`, each channel in `[0, 1]`.
     pub c: [f32; 3],
@@ -152,6 +166,10 @@ pub struct StraightF32 {
 
 impl Voxel for StraightF32 {
     const F32_CHANNELS: bool = true;
+    #[inline(always)]
+    fn as_straight_f32(data: &[Self]) -> Option<&[StraightF32]> {
+        Some(data)
+    }
     const TRANSPARENT: Self = Self {
         c: [0.0; 3],
         a: 0.0,

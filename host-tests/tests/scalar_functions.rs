@@ -6,9 +6,11 @@ use proptest::prelude::*;
 use volsample::classify::{gradient, Isosurface};
 use volsample::filter::trilinear_weights;
 use volsample::mode::integrate_step;
-use volsample::opacity::{phi, phi_poly, PHI_POLY_BELOW, PHI_SERIES_BELOW};
+use volsample::opacity::{
+    correct, phi, phi_poly, PHI_POLY_BELOW, PHI_SERIES_BELOW, PSI_SERIES_BELOW,
+};
 use volsample::shade::Light;
-use volsample::{ControlPoint, ExtinctionF32, StraightF32, TransferFunction, Volume};
+use volsample::{ControlPoint, ExtinctionF32, Sample, StraightF32, TransferFunction, Volume};
 use volsample_host::reference::{self, RefExtinction};
 use volsample_host::tolerance as tol;
 
@@ -236,4 +238,55 @@ fn integrate_step_below_one_uses_phi_poly_bit_for_bit() {
         x *= 1.0 + 1.0 / 64.0;
     }
     assert!(checked > 1000, "{checked} cases");
+}
+
+/// `correct` against the f64 correction (`α_d = −expm1(r·ln1p(−α))`, `C̃_d = C̃·α_d/α`) over
+/// the series form's whole domain (every 41st `f32` from `2⁻²⁴` up to `PSI_SERIES_BELOW`, and
+/// the ulps around it) and the ratios where it holds and where `x = r·(−ln(1 − α))` crosses 1,
+/// within `CORRECTION_ABS·max(1, r)`; two threads.
+#[test]
+fn correct_series_form_within_bound() {
+    let ratios = [1e-3f32, 0.125, 0.37, 0.5, 0.9, 1.0, 1.4, 1.5, 2.5];
+    let worst_of = |bits: &mut dyn Iterator<Item = u32>| {
+        let mut worst = (0.0f64, 0.0f32, 0.0f32);
+        for b in bits {
+            let a = f32::from_bits(b);
+            let s = Sample {
+                c: [a, a * 0.5, a * 0.125],
+                a,
+            };
+            for &r in &ratios {
+                let got = correct(s, r);
+                let ad = -(f64::from(r) * (-f64::from(a)).ln_1p()).exp_m1();
+                let k = ad / f64::from(a);
+                let want = [0, 1, 2].map(|i| f64::from(s.c[i]) * k);
+                let err = want
+                    .iter()
+                    .zip(got.c)
+                    .map(|(w, g)| (w - f64::from(g)).abs())
+                    .fold((f64::from(got.a) - ad).abs(), f64::max);
+                let frac = err / (tol::CORRECTION_ABS * f64::from(r.max(1.0)));
+                if frac > worst.0 {
+                    worst = (frac, a, r);
+                }
+            }
+        }
+        worst
+    };
+    let (lo, hi) = ((2.0f32).powi(-24).to_bits(), PSI_SERIES_BELOW.to_bits());
+    let mid = lo + (hi - lo) / 2;
+    let worst = std::thread::scope(|s| {
+        let upper = s.spawn(|| worst_of(&mut (mid..hi + 64).step_by(41)));
+        let near = (hi - 64..hi + 64).chain(lo..mid);
+        let parts = [worst_of(&mut near.step_by(41))];
+        parts
+            .into_iter()
+            .chain(upper.join().ok())
+            .fold((0.0, 0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a })
+    });
+    println!(
+        "correct: worst error {:.3} of the bound, at α = {:e}, r = {}",
+        worst.0, worst.1, worst.2
+    );
+    assert!(worst.0 <= 1.0, "{worst:?}");
 }

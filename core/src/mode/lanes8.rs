@@ -11,10 +11,11 @@
 use crate::lanes::Lanes;
 use crate::num::Num;
 use crate::sample::Interp;
-use crate::voxel::{ExtinctionF32, StraightU8, Voxel};
+use crate::voxel::{ExtinctionF32, StraightF32, StraightU8, Voxel};
 
 /// A voxel format that an eight-lane kernel reads: [`StraightU8`] (RGBA8 words, two
-/// neighbours as one 8-byte word) and [`ExtinctionF32`] (one 16-byte vector each).
+/// neighbours as one 8-byte word), [`ExtinctionF32`] and [`StraightF32`] (one 16-byte vector
+/// each).
 pub trait LaneVoxel: Voxel {
     /// `data` as this format, where the marcher's format `V` is it (the same slice
     /// retyped); `None` otherwise, and the marcher keeps its portable paths.
@@ -32,6 +33,13 @@ impl LaneVoxel for ExtinctionF32 {
     #[inline(always)]
     fn retype<V: Voxel>(data: &[V]) -> Option<&[Self]> {
         V::as_extinction_f32(data)
+    }
+}
+
+impl LaneVoxel for StraightF32 {
+    #[inline(always)]
+    fn retype<V: Voxel>(data: &[V]) -> Option<&[Self]> {
+        V::as_straight_f32(data)
     }
 }
 
@@ -82,7 +90,8 @@ impl TapRead for Unorm8 {}
 pub enum TauOfAlpha8 {}
 impl TapRead for TauOfAlpha8 {}
 
-/// 16-byte `ExtinctionF32` voxels, read as their stored `[C^τ, τ]` (`ExtinctionWeighted`).
+/// 16-byte voxels, read as their four stored `f32`: `ExtinctionF32`'s `[C^τ, τ]`
+/// (`ExtinctionWeighted`), `StraightF32`'s `[C, α]` (`OpacityWeighted`, `Separate`).
 #[derive(Debug)]
 pub enum StoredF32x4 {}
 impl TapRead for StoredF32x4 {}
@@ -114,6 +123,40 @@ pub trait LaneMode {
 
     /// The mode's `Mode::finish_in` (it reads no field of the mode).
     fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T>;
+}
+
+/// A straight-channel mode `M` (`OpacityWeighted`, `Separate`: a lane kernel over RGBA8
+/// words) over 16-byte [`StraightF32`] voxels instead, each tap read as its stored `[C, α]`:
+/// the same sums and finish as `M`'s.
+#[derive(Debug, Clone, Copy)]
+pub struct OverF32<M>(M);
+
+impl<M: LaneMode<Voxel = StraightU8, Taps = Unorm8>> LaneMode for OverF32<M> {
+    type Voxel = StraightF32;
+    type Taps = StoredF32x4;
+    type W = M::W;
+    const LAG: u32 = M::LAG;
+
+    #[inline(always)]
+    fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
+        M::finish_lanes(i, d)
+    }
+}
+
+/// The lane kernel of the straight-channel mode `m` over voxels of the format `V`: `m`'s
+/// own over RGBA8 words, [`OverF32`] over [`StraightF32`] (chosen by `V`'s type).
+#[inline(always)]
+pub(crate) fn visit_straight<V, M, X>(m: &M, visitor: X) -> X::Out
+where
+    V: Voxel,
+    M: LaneMode<Voxel = StraightU8, Taps = Unorm8> + Copy,
+    X: LaneVisitor,
+{
+    if V::as_straight_f32(&[]).is_some() {
+        visitor.visit(&OverF32(*m))
+    } else {
+        visitor.visit(m)
+    }
 }
 
 /// A computation over the lane kernel of a mode ([`Mode::lanes8`](super::Mode::lanes8)).

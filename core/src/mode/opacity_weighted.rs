@@ -32,7 +32,7 @@ impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
 
     #[inline(always)]
     fn lanes8<X: LaneVisitor>(&self, visitor: X) -> Result<X::Out, X> {
-        Ok(visitor.visit(self))
+        Ok(super::lanes8::visit_straight::<V, _, _>(self, visitor))
     }
 
     /// Eqs. 9–12 over straight channels `(C_i, α_i)` with weights `w_i` (`K`M for `ω`, then

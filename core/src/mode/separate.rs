@@ -29,7 +29,7 @@ impl<V: StraightVoxel> Mode<V> for Separate {
 
     #[inline(always)]
     fn lanes8<X: LaneVisitor>(&self, visitor: X) -> Result<X::Out, X> {
-        Ok(visitor.visit(self))
+        Ok(super::lanes8::visit_straight::<V, _, _>(self, visitor))
     }
 
     #[inline(always)]

@@ -453,9 +453,10 @@ where
     /// Casts every ray of `rays` into `out` (`out[i]` is `cast(&rays[i])`, bit for bit), four
     /// at a time with [`cast4`](Self::cast4) — or eight at a time in AVX2 lanes where the
     /// marcher's [`Isa`] is AVX2 (the default on a CPU that has it) and the marcher is
-    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8` over `StraightU8`, or
-    /// `ExtinctionWeighted` over `ExtinctionF32`, `Trilinear<WeightedSum>`, front to back
-    /// without correction, skipping or not ([`packet_width`](Self::packet_width) is then 8): in
+    /// `OpacityWeighted`, `Separate` or `ExtinctionWeightedU8` over `StraightU8` (the first two
+    /// also over `StraightF32`), or `ExtinctionWeighted` over `ExtinctionF32`,
+    /// `Trilinear<WeightedSum>`, front to back,
+    /// corrected or not, skipping or not ([`packet_width`](Self::packet_width) is then 8): in
     /// the `ray_march` bench that takes about a quarter to a third of `cast`'s time for
     /// `OpacityWeighted` (the README's performance section has the figures).
     ///

@@ -4,7 +4,7 @@
 
 use super::*;
 #[cfg(target_arch = "x86_64")]
-use crate::arch::avx2::Samples;
+use crate::arch::avx2::{Samples, Stage};
 #[cfg(target_arch = "x86_64")]
 use crate::mode::{LaneMode, LaneVisitor};
 
@@ -71,16 +71,16 @@ where
     /// Whether the eight-ray AVX2 kernel applies to this marcher: an AVX2 [`Isa`], a filter
     /// and mode with a lane kernel over voxels of its format (`Filter::lanes8`:
     /// `Trilinear<WeightedSum>` with `OpacityWeighted`, `Separate` and
-    /// `ExtinctionWeightedU8` over `StraightU8`, `ExtinctionWeighted` over `ExtinctionF32`),
-    /// front to back without correction, over a volume it can index. (With skipping, each
-    /// lane marches only the samples between its ray's first and last occupied ones,
-    /// [`Skipping::occupied`].)
+    /// `ExtinctionWeightedU8` over `StraightU8`, the first two also over `StraightF32`,
+    /// `ExtinctionWeighted` over `ExtinctionF32`),
+    /// front to back, over a volume it can index; with the marcher's opacity correction, in
+    /// the lanes (`opacity::correct_in`). (With skipping, each lane marches only the samples
+    /// between its ray's first and last occupied ones, [`Skipping::occupied`].)
     #[inline]
     pub(super) fn eight_ray_packets(&self) -> bool {
         #[cfg(target_arch = "x86_64")]
         {
             O::FRONT_TO_BACK
-                && self.correction.is_none()
                 && self.isa.avx2_token().is_some()
                 && crate::arch::avx2::fits(&self.volume)
                 && F::lanes8(&self.mode, Reads(self.volume.data())).unwrap_or(false)
@@ -88,6 +88,19 @@ where
         #[cfg(not(target_arch = "x86_64"))]
         {
             false
+        }
+    }
+
+    /// What the eight-lane kernel does with each finished sample: this marcher's step,
+    /// correction and stop level, and the mode's `taus`.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn stage<'t>(&self, taus: &'t [f32; 256]) -> Stage<'t, Option<Corrected>> {
+        Stage {
+            d: self.step.d,
+            a_stop: self.order.termination().a_stop_or_inf(),
+            taus,
+            corr: self.correction,
         }
     }
 
@@ -214,11 +227,10 @@ where
             return (self.rays, self.out);
         };
         let vol = m.volume.with_data(data);
-        let (d, taus) = (m.step.d, mode.taus());
-        let a_stop = m.order.termination().a_stop_or_inf();
+        let (d, stage) = (m.step.d, m.stage(mode.taus()));
         in_packets(self.rays, self.out, |r| {
             let samples = Samples::packet(r, |r| m.samples(r), |r, s| m.skip.occupied(r, s, d));
-            let acc = march8::<K::Voxel, K>(self.cpu, &vol, r, &samples, d, a_stop, taus);
+            let acc = march8::<K::Voxel, K>(self.cpu, &vol, r, &samples, stage);
             acc.map(|a| over(a, m.background))
         })
     }
@@ -248,15 +260,12 @@ where
     fn visit<K: LaneMode>(self, mode: &K) -> Self::Out {
         let m = self.marcher;
         let vol = m.volume.with_data(K::voxels(m.volume.data())?);
-        let a_stop = m.order.termination().a_stop_or_inf();
         Some(crate::arch::avx2::march_one::<K::Voxel, K>(
             self.cpu,
             &vol,
             self.ray,
             &self.samples,
-            m.step.d,
-            a_stop,
-            mode.taus(),
+            m.stage(mode.taus()),
         ))
     }
 }

@@ -27,15 +27,19 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     samples: &Samples,
-    d: f32,
-    a_stop: f32,
-    taus: &[f32; 256],
+    stage: Stage<'_, K::Corr>,
 ) -> [[i32; LANES]; 4] {
     let Samples {
         ref ranges,
         first,
         total,
     } = *samples;
+    let Stage {
+        d,
+        a_stop,
+        taus,
+        corr,
+    } = stage;
     let data = vol.data();
     let [nx, ny, nz] = vol.dims().map(|n| n as i32);
     // Per axis: (origin, direction, last voxel index, `n` as `f32`).
@@ -81,7 +85,7 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
     let over = |acc: [__m256; 4], s: [__m256; 4], live: __m256| {
         // SAFETY: the methods of `Kind` need AVX2 and FMA, which this function has (its
         // callers' `Avx2` token proves the CPU runs them); so in every `unsafe` block below.
-        unsafe { K::over(acc, K::finish(s, d), live) }
+        unsafe { K::over(acc, K::finish(s, d, corr), live) }
     };
     // The lanes still live after sample `i` has been composited onto `acc`: a lane stops
     // after its last sample, or once `A ≥ A_stop` (`Termination::done`).
@@ -104,7 +108,15 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
     let mut one_ray = |s: [__m256; 4], i: u32| {
         let k0 = first + i * LANES as u32;
         // SAFETY: as above.
-        let n = unsafe { K::serial(&mut one_acc, K::finish(s, d), k0, (end, total), a_stop) }?;
+        let n = unsafe {
+            K::serial(
+                &mut one_acc,
+                K::finish(s, d, corr),
+                k0,
+                (end, total),
+                a_stop,
+            )
+        }?;
         Some(one_result(one_acc, n))
     };
 

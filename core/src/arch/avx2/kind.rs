@@ -13,6 +13,7 @@ use core::arch::x86_64::*;
 
 use super::*;
 use crate::mode::{LaneMode, StoredF32x4, TauOfAlpha8, Unorm8};
+use crate::opacity::{Corrected, Correction};
 
 /// The per-step operations of one kind of kernel (see the module doc). # Safety of every
 /// method: the CPU must have AVX2 and FMA.
@@ -23,6 +24,11 @@ pub(crate) trait Kind {
 
     /// A lane's result: a float [`Sample`] or an [`IntSample`].
     type Out: Copy;
+
+    /// The opacity correction the kernel applies to each finished sample: for the float
+    /// kinds an `Option<Corrected>` (`None` when `d = d′` or the mode is extinction-based),
+    /// for [`IntOw`] `()` (its callers take the kernel only without correction).
+    type Corr: Copy;
 
     /// The result of a lane from its accumulated `[r, g, b, α]` (bit patterns).
     fn out(bits: [i32; 4]) -> Self::Out;
@@ -50,8 +56,8 @@ pub(crate) trait Kind {
         taus: &[f32; 256],
     ) -> [__m256; 4];
 
-    /// The sample of the sums `s` for a step of length `d`.
-    unsafe fn finish(s: [__m256; 4], d: f32) -> [__m256; 4];
+    /// The sample of the sums `s` for a step of length `d`, corrected by `corr`.
+    unsafe fn finish(s: [__m256; 4], d: f32, corr: Self::Corr) -> [__m256; 4];
 
     /// The front-to-back step of sample `s` onto `acc`, kept in the `live` lanes only.
     unsafe fn over(acc: [__m256; 4], s: [__m256; 4], live: __m256) -> [__m256; 4];
@@ -166,6 +172,7 @@ unsafe fn all_taps<R: ReadTaps, V: Voxel, const INSIDE: bool>(
 impl<M: LaneMode> Kind for M {
     const LAG: u32 = M::LAG;
     type Out = Sample;
+    type Corr = Option<Corrected>;
 
     #[inline(always)]
     fn out([r, g, b, a]: [i32; 4]) -> Sample {
@@ -270,8 +277,12 @@ impl<M: LaneMode> Kind for M {
 
     #[inline]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn finish(s: [__m256; 4], d: f32) -> [__m256; 4] {
-        vectors(M::finish_lanes(interp(s), d))
+    unsafe fn finish(s: [__m256; 4], d: f32, corr: Option<Corrected>) -> [__m256; 4] {
+        let s = M::finish_lanes(interp(s), d);
+        vectors(match corr {
+            Some(c) => c.apply_in(s),
+            None => s,
+        })
     }
 
     #[inline]
@@ -336,6 +347,7 @@ pub(crate) struct IntOw;
 impl Kind for IntOw {
     const LAG: u32 = 0;
     type Out = IntSample;
+    type Corr = ();
 
     /// Every lane holds `C ≤ A ≤ ONE`: `front_to_back`'s invariants, whose integer arithmetic
     /// the kernel performs.
@@ -433,7 +445,7 @@ impl Kind for IntOw {
     /// (The sums are the sample itself.)
     #[inline]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn finish(s: [__m256; 4], _d: f32) -> [__m256; 4] {
+    unsafe fn finish(s: [__m256; 4], _d: f32, _corr: ()) -> [__m256; 4] {
         s
     }
 

@@ -219,6 +219,12 @@ impl crate::lanes::Lanes for F32x8 {
     }
 
     #[inline(always)]
+    fn div(self, other: Self) -> Self {
+        // SAFETY: the CPU has AVX2 (see `F32x8`).
+        Self(unsafe { _mm256_div_ps(self.0, other.0) })
+    }
+
+    #[inline(always)]
     fn all(m: Mask8) -> bool {
         // SAFETY: the CPU has AVX2 (see `F32x8`).
         unsafe { _mm256_movemask_ps(m.0) == 0xff }

@@ -2,9 +2,11 @@
 //! the portable kernels inlined into it for AVX2), and eight rays in the eight `f32` lanes of
 //! AVX2 vectors: the packet kernel of
 //! [`RayMarcher::cast_rays`](crate::RayMarcher::cast_rays) for `OpacityWeighted`, `Separate`
-//! and `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of straight RGBA8 voxels,
-//! and `ExtinctionWeighted` of [`ExtinctionF32`] voxels, front to back,
-//! without opacity correction or empty-space skipping; and, in `i32` lanes, that of
+//! and `ExtinctionWeightedU8` trilinear (`WeightedSum`) sampling of straight RGBA8 voxels
+//! (the first two also of 16-byte [`StraightF32`] voxels), and `ExtinctionWeighted` of
+//! [`ExtinctionF32`] voxels, front to back, with the marcher's
+//! opacity correction ([`Kind::Corr`]) and each lane over its ray's occupied samples where
+//! it skips empty space; and, in `i32` lanes, that of
 //! [`IntRayMarcher::cast_rays`](crate::render::IntRayMarcher::cast_rays) for the integer
 //! `OpacityWeighted` trilinear pipeline at `F = 8` ([`IntOw`], [`int_sums`]).
 //!
@@ -96,7 +98,7 @@ use crate::mode::{weighted_sums, Weighting};
 use crate::ray::Ray;
 use crate::sample::Sample;
 use crate::volume::Volume;
-use crate::voxel::{ExtinctionF32, StraightU8, Voxel};
+use crate::voxel::{ExtinctionF32, StraightF32, StraightU8, Voxel};
 
 mod kernel;
 mod kind;
@@ -257,13 +259,25 @@ impl Samples {
     }
 }
 
+/// What the kernel does with each sample after its sums: the step `d` it finishes it for,
+/// the opacity correction `corr` ([`Kind::Corr`]), the stop level `a_stop` (`A ≥ a_stop` ends
+/// a lane) and the `τ` of every opacity byte (`ExtinctionWeightedU8`; the others ignore it).
+#[derive(Clone, Copy)]
+pub(crate) struct Stage<'t, C> {
+    pub(crate) d: f32,
+    pub(crate) a_stop: f32,
+    pub(crate) taus: &'t [f32; 256],
+    pub(crate) corr: C,
+}
+
 /// Marches eight rays front to back, lane `l` over its `samples` ([`Samples`]), stopping a
 /// lane once its `A ≥ a_stop`: the accumulated samples before the background,
 /// bit-identical to the one-ray march of the kind `K` ([`Kind`]) where every sample left
 /// out is transparent: the float modes `OpacityWeighted`, `Separate`,
 /// `ExtinctionWeightedU8` (with the `τ` of every opacity byte in `taus`, which the others
 /// ignore) and `ExtinctionWeighted`, where `V` must be the mode's `LaneMode::Voxel`
-/// ([`StraightU8`]; for `ExtinctionWeighted`, [`ExtinctionF32`]: others read as transparent)
+/// ([`StraightU8`], or [`StraightF32`] for their `OverF32` kinds; for `ExtinctionWeighted`,
+/// [`ExtinctionF32`]: others read as transparent)
 /// and `vol` must [`fits`]; or [`IntOw`], the integer `OpacityWeighted` trilinear march at
 /// `F = 8` of `IntRayMarcher::cast`, where `V` must be [`StraightU8`], `vol` must
 /// [`fits_int`] and `a_stop` is the U8.8 stop level: the positions `Ray::at` computes, each
@@ -275,13 +289,11 @@ pub(crate) fn march8<V: Voxel, K: Kind>(
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     samples: &Samples,
-    d: f32,
-    a_stop: f32,
-    taus: &[f32; 256],
+    stage: Stage<'_, K::Corr>,
 ) -> [K::Out; LANES] {
     // SAFETY: `march8_any` needs a CPU with AVX2 and FMA; `_cpu` exists only where
     // `Avx2::detect` found them on this CPU.
-    let [r, g, b, a] = unsafe { march8_any::<V, K>(vol, rays, samples, d, a_stop, taus) };
+    let [r, g, b, a] = unsafe { march8_any::<V, K>(vol, rays, samples, stage) };
     let mut out = [K::out([0; 4]); LANES];
     for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
         *o = K::out([r, g, b, a]);
@@ -300,13 +312,11 @@ pub(crate) fn march_one<V: Voxel, K: Kind>(
     vol: &Volume<'_, V>,
     ray: &Ray,
     samples: &Samples,
-    d: f32,
-    a_stop: f32,
-    taus: &[f32; 256],
+    stage: Stage<'_, K::Corr>,
 ) -> (K::Out, u32) {
     let rays = [*ray; LANES];
     // SAFETY: as in `march8`.
-    let out = unsafe { march8_avx2::<V, K, 2, false, true>(vol, &rays, samples, d, a_stop, taus) };
+    let out = unsafe { march8_avx2::<V, K, 2, false, true>(vol, &rays, samples, stage) };
     let [[r, n, ..], [g, ..], [b, ..], [a, ..]] = out;
     (K::out([r, g, b, a]), n as u32)
 }
@@ -325,18 +335,16 @@ fn march8_any<V: Voxel, K: Kind>(
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     samples: &Samples,
-    d: f32,
-    a_stop: f32,
-    taus: &[f32; 256],
+    stage: Stage<'_, K::Corr>,
 ) -> [[i32; LANES]; 4] {
     let [r0, ..] = rays;
     if rays.iter().any(|r| r.dir() != r0.dir()) {
-        march8_avx2::<V, K, 2, false, false>(vol, rays, samples, d, a_stop, taus)
+        march8_avx2::<V, K, 2, false, false>(vol, rays, samples, stage)
     } else {
         match major_axis(r0.dir()) {
-            0 => march8_avx2::<V, K, 0, true, false>(vol, rays, samples, d, a_stop, taus),
-            1 => march8_avx2::<V, K, 1, true, false>(vol, rays, samples, d, a_stop, taus),
-            _ => march8_avx2::<V, K, 2, true, false>(vol, rays, samples, d, a_stop, taus),
+            0 => march8_avx2::<V, K, 0, true, false>(vol, rays, samples, stage),
+            1 => march8_avx2::<V, K, 1, true, false>(vol, rays, samples, stage),
+            _ => march8_avx2::<V, K, 2, true, false>(vol, rays, samples, stage),
         }
     }
 }

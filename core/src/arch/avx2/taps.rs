@@ -32,6 +32,9 @@ pub struct Taps<'d, V> {
     /// `data` as `ExtinctionF32` (`Voxel::as_extinction_f32`, of the same length), read by
     /// [`load_f32x4`](Self::load_f32x4); `None` for other formats.
     f32x4: Option<&'d [ExtinctionF32]>,
+    /// `data` as `StraightF32` (`Voxel::as_straight_f32`, of the same length), read by
+    /// [`load_f32x4`](Self::load_f32x4); `None` for other formats.
+    straight_f32: Option<&'d [StraightF32]>,
 }
 
 impl<'d, V: Voxel> Taps<'d, V> {
@@ -70,6 +73,7 @@ impl<'d, V: Voxel> Taps<'d, V> {
         let bytes = V::as_straight_u8(data).filter(|b| b.len() == len);
         let pairs = inside && bytes.is_some() && _mm256_movemask_epi8(side_by_side) == -1;
         let f32x4 = V::as_extinction_f32(data).filter(|e| e.len() == len);
+        let straight_f32 = V::as_straight_f32(data).filter(|e| e.len() == len);
         Self {
             format: core::marker::PhantomData,
             at,
@@ -77,28 +81,55 @@ impl<'d, V: Voxel> Taps<'d, V> {
             bytes,
             pairs,
             f32x4,
+            straight_f32,
         }
     }
 
-    /// The `[C^τ r, g, b, τ]` of tap `k`'s eight [`ExtinctionF32`] voxels, one 16-byte read
-    /// per lane and a 4 × 4 transposition per half; without bounds checks where `INSIDE` and
-    /// `inside` (as [`load`](Self::load)). All zero (transparent) for other formats, which the
-    /// kernel never reads this way.
+    /// The four stored `f32` of tap `k`'s eight 16-byte voxels: `[C^τ r, g, b, τ]` of
+    /// [`ExtinctionF32`], `[r, g, b, α]` of [`StraightF32`]; one 16-byte read per lane and a
+    /// 4 × 4 transposition per half; without bounds checks where `INSIDE` and `inside` (as
+    /// [`load`](Self::load)). All zero (transparent) for other formats, which the kernel never
+    /// reads this way.
     #[inline]
     #[target_feature(enable = "avx2,fma")]
     pub(super) fn load_f32x4<const INSIDE: bool>(&self, k: usize) -> [__m256; 4] {
-        let (Some(&at), Some(ext)) = (self.at.get(k), self.f32x4) else {
+        let Some(&at) = self.at.get(k) else {
             return [_mm256_setzero_ps(); 4];
         };
-        let vector = |v: ExtinctionF32| {
-            let [r, g, b] = v.c_tau;
-            _mm_setr_ps(r, g, b, v.tau)
-        };
+        if let Some(ext) = self.f32x4 {
+            let vector = |v: ExtinctionF32| {
+                let [r, g, b] = v.c_tau;
+                _mm_setr_ps(r, g, b, v.tau)
+            };
+            self.transposed::<_, INSIDE>(ext, at, vector)
+        } else if let Some(straight) = self.straight_f32 {
+            let vector = |v: StraightF32| {
+                let [r, g, b] = v.c;
+                _mm_setr_ps(r, g, b, v.a)
+            };
+            self.transposed::<_, INSIDE>(straight, at, vector)
+        } else {
+            [_mm256_setzero_ps(); 4]
+        }
+    }
+
+    /// [`load_f32x4`](Self::load_f32x4) of the voxels `data` (of `data.len()` =
+    /// the volume's length) at the indices `at`, each voxel a vector by `vector`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn transposed<W: Voxel, const INSIDE: bool>(
+        &self,
+        data: &[W],
+        at: __m256i,
+        vector: impl Fn(W) -> __m128,
+    ) -> [__m256; 4] {
+        let ext = data;
         let at = to_i32s(at);
         let m = if INSIDE && self.inside {
             map8(at, |i| {
-                // SAFETY: `inside`: `0 ≤ i < data.len()` = `ext.len()` as unsigned numbers,
-                // tested by `new` for every lane of every tap.
+                // SAFETY: `inside`: `0 ≤ i < data.len()` as unsigned numbers, tested by `new`
+                // for every lane of every tap; `ext` is `self.f32x4` or `self.straight_f32`
+                // (the only callers), which `new` keeps only at that same length.
                 vector(unsafe { *ext.get_unchecked(i as u32 as usize) })
             })
         } else {
@@ -106,7 +137,7 @@ impl<'d, V: Voxel> Taps<'d, V> {
                 vector(
                     ext.get(i as u32 as usize)
                         .copied()
-                        .unwrap_or(ExtinctionF32::TRANSPARENT),
+                        .unwrap_or(W::TRANSPARENT),
                 )
             })
         };

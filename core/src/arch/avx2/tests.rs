@@ -213,6 +213,93 @@ fn extinction_check() {
     }
 }
 
+/// Opacity correction in the eight lanes (`Corrected::apply_in`, the kernel's) is
+/// `opacity::correct` lane by lane, bit for bit (a zero's sign aside): packets whose lanes all
+/// lie in the series form (`α < 1/2`, `x < 1`), packets with one lane outside it (`α` at or
+/// above 1/2, at 1, 0, subnormal, negative, NaN: the per-lane path), at ratios on both sides
+/// of where `x` reaches 1.
+#[test]
+fn correction_is_correct_per_lane() {
+    let Some(_cpu) = Avx2::detect() else {
+        return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
+    };
+    // SAFETY: `detect` found AVX2 and FMA on this CPU.
+    unsafe { correction_check() }
+}
+
+#[target_feature(enable = "avx2,fma")]
+fn correction_check() {
+    use crate::opacity::{correct, Corrected, Correction};
+    let mut next = xorshift(0x2545_F491_4F6C_DD1D);
+    let mut unit = || (next() >> 40) as f32 / (1u64 << 24) as f32;
+    let ratios = [1e-3f32, 0.25, 0.5, 0.8, 1.0, 1.3, 1.6, 3.0, 40.0];
+    let mut fast = 0;
+    for case in 0..20_000usize {
+        let r = ratios.get(case % ratios.len()).copied().unwrap_or(0.5);
+        let odd = case % 3 == 0;
+        let alpha: [f32; LANES] = core::array::from_fn(|l| {
+            let u = unit();
+            if odd && l == case % LANES {
+                match case % 8 {
+                    0 => 0.5 + 0.5 * u,
+                    1 => 1.0,
+                    2 => 0.0,
+                    3 => 1e-40,
+                    4 => -0.25,
+                    5 => f32::NAN,
+                    6 => f32::from_bits(0.5f32.to_bits() - 1),
+                    _ => 0.999_9,
+                }
+            } else if case % 5 == 0 {
+                libm::exp2f(-24.0 * u) * 0.5
+            } else {
+                0.5 * u
+            }
+        });
+        let color: [[f32; LANES]; 3] = core::array::from_fn(|k| {
+            core::array::from_fn(|l| {
+                let a = alpha.get(l).copied().unwrap_or(0.0);
+                let u = unit();
+                if k == 2 && case % 7 == 0 {
+                    u
+                } else {
+                    a * u
+                }
+            })
+        });
+        if alpha.iter().all(|&a| a < 0.5) && r < 1.4 {
+            fast += 1;
+        }
+        let i = Interp {
+            c: color.map(|c| F32x8(lanes(c))),
+            a: F32x8(lanes(alpha)),
+        };
+        let Some(corr) = Corrected::new(r) else {
+            panic!("ratio {r}");
+        };
+        let o = corr.apply_in(i);
+        let (c, a) = (o.c.map(|c| array(c.0)), array(o.a.0));
+        let same = |g: f32, w: f32| g == w || g.to_bits() == w.to_bits();
+        for l in 0..LANES {
+            let at = |v: &[f32; LANES]| v.get(l).copied().unwrap_or(-1.0);
+            let s = crate::sample::Sample {
+                c: color.each_ref().map(at),
+                a: at(&alpha),
+            };
+            let want = correct(s, r);
+            assert!(
+                same(at(&a), want.a),
+                "α, case {case}, lane {l}: {s:?} r = {r}"
+            );
+            for (g, w) in c.each_ref().map(at).into_iter().zip(want.c) {
+                assert!(same(g, w), "C̃, case {case}, lane {l}: {s:?} r = {r}");
+            }
+        }
+    }
+    // Most packets take the series form in lanes.
+    assert!(fast > 5_000, "{fast}");
+}
+
 /// `div65280` is `⌊n/65280⌋` for every `u32` `n`, in every lane.
 #[test]
 fn div65280_is_the_floor_of_the_quotient_for_every_u32() {

@@ -70,7 +70,7 @@ where
         in_packets(self.rays, self.out, |r| {
             let samples =
                 Samples::packet(r, |r| m.sample_range(r), |r, s| m.skip.occupied(r, s, d));
-            let acc = march8::<K::Voxel, IntOw>(self.cpu, &vol, r, &samples, d, a_stop, NO_TAUS);
+            let acc = march8::<K::Voxel, IntOw>(self.cpu, &vol, r, &samples, stage(d, a_stop));
             acc.map(|a| front_to_back(a, m.background))
         })
     }
@@ -93,10 +93,25 @@ impl<V: Voxel> IntLaneVisitor for OneRay<'_, '_, V> {
     fn visit<K: IntLaneMode>(self, _mode: &K) -> Self::Out {
         use crate::arch::avx2::{march_one, IntOw};
         let vol = self.vol.with_data(K::voxels(self.vol.data())?);
-        let (ray, samples, d, a_stop) = (self.ray, &self.samples, self.d, self.a_stop);
+        let stage = stage(self.d, self.a_stop);
         Some(march_one::<K::Voxel, IntOw>(
-            self.cpu, &vol, ray, samples, d, a_stop, NO_TAUS,
+            self.cpu,
+            &vol,
+            self.ray,
+            &self.samples,
+            stage,
         ))
+    }
+}
+
+/// The integer kernel's [`Stage`](crate::arch::avx2::Stage): step `d`, the U8.8 stop level,
+/// no `τ` table and no correction (table-driven correction keeps the portable paths).
+fn stage(d: f32, a_stop: f32) -> crate::arch::avx2::Stage<'static, ()> {
+    crate::arch::avx2::Stage {
+        d,
+        a_stop,
+        taus: NO_TAUS,
+        corr: (),
     }
 }
 
