@@ -13,7 +13,7 @@
 use numpy::ndarray::{Array2, Array3, Array4};
 use numpy::PyUntypedArrayMethods;
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyArray4, PyReadonlyArray2, PyReadonlyArray4};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use volsample::downsample::integer::{downsample_level_int, IntFilter4, IntOpacityBased};
 use volsample::downsample::{downsample_level as ds_level, level_dims, ExtinctionBased};
@@ -774,6 +774,56 @@ fn downsample_level_u8<'py>(
     Ok(to_array4(data, od)?.into_pyarray(py))
 }
 
+/// A `width × height` image of `fill`: the core's error for a zero width or height, and
+/// `MemoryError` (not an abort) where it cannot be allocated.
+fn pixels<P: Clone>((w, h): (usize, usize), fill: P) -> PyResult<Vec<P>> {
+    if w == 0 || h == 0 {
+        return Err(core_err(Error::EmptyImage));
+    }
+    let too_big =
+        || PyMemoryError::new_err(format!("an image of {w}×{h} pixels does not fit in memory"));
+    let n = w.checked_mul(h).ok_or_else(too_big)?;
+    let mut img = Vec::new();
+    img.try_reserve_exact(n).map_err(|_| too_big())?;
+    img.resize(n, fill);
+    Ok(img)
+}
+
+/// Renders `img` (`width·height` pixels, row-major, not empty) in `threads` bands of whole
+/// rows on scoped threads, `band(first_row, rows)` each: a band's pixels are rendered as the
+/// whole image renders them, so the image is the same for any thread count.
+fn render_bands<P: Send>(
+    img: &mut [P],
+    (w, h): (usize, usize),
+    threads: usize,
+    band: impl Fn(usize, &mut [P]) -> Result<(), Error> + Sync,
+) -> Result<(), Error> {
+    if w == 0 || h == 0 {
+        return Err(Error::EmptyImage);
+    }
+    let threads = threads.clamp(1, h);
+    if threads == 1 {
+        return band(0, img);
+    }
+    let rows_per = h.div_ceil(threads);
+    let results: Vec<Result<(), Error>> = std::thread::scope(|s| {
+        let handles: Vec<_> = img
+            .chunks_mut(rows_per * w)
+            .enumerate()
+            .map(|(i, rows)| {
+                let band = &band;
+                s.spawn(move || band(i * rows_per, rows))
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or(Err(Error::EmptyImage)))
+            .collect()
+    });
+    results.into_iter().collect()
+}
+
+#[allow(clippy::too_many_arguments)]
 fn render_kernel<V, M, F>(
     data: &[V],
     mode: M,
@@ -782,44 +832,17 @@ fn render_kernel<V, M, F>(
     cam: CameraKind,
     size: (usize, usize),
     threads: usize,
-) -> Result<Vec<[f32; 4]>, Error>
+    img: &mut [Sample],
+) -> Result<(), Error>
 where
     V: volsample::voxel::Voxel + Sync,
     M: Mode<V> + Sync,
     F: Filter + Sync,
 {
     let m = marcher(data, p, mode, filter)?;
-    let (w, h) = size;
-    let mut img = vec![Sample::TRANSPARENT; w.checked_mul(h).ok_or(Error::EmptyImage)?];
-    let threads = threads.clamp(1, h.max(1));
-    if threads == 1 {
-        m.render_into(&cam, w, h, &mut img)?;
-    } else {
-        // Bands of whole rows on scoped threads: each pixel as `render_into` renders it.
-        let rows_per = h.div_ceil(threads);
-        let results: Vec<Result<(), Error>> = std::thread::scope(|s| {
-            let handles: Vec<_> = img
-                .chunks_mut(rows_per * w)
-                .enumerate()
-                .map(|(i, band)| {
-                    let m = &m;
-                    let cam = &cam;
-                    s.spawn(move || m.render_rows_into(cam, (w, h), i * rows_per, band))
-                })
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| h.join().unwrap_or(Err(Error::EmptyImage)))
-                .collect()
-        });
-        for r in results {
-            r?;
-        }
-    }
-    Ok(img
-        .into_iter()
-        .map(|s| [s.c[0], s.c[1], s.c[2], s.a])
-        .collect())
+    render_bands(img, size, threads, |first, band| {
+        m.render_rows_into(&cam, size, first, band)
+    })
 }
 
 /// Renders a volume with a camera through the library's fast path
@@ -849,12 +872,22 @@ fn render<'py>(
     };
     let cam = camera.kind;
     let size = (width, height);
+    let mut img = pixels(size, Sample::TRANSPARENT)?;
     let out = py.allow_threads(|| {
         dispatch_float(&vol.channels, mode, filter, |job| {
-            run_float!(job, mode, filter, render_kernel(p, cam, size, threads))
+            run_float!(
+                job,
+                mode,
+                filter,
+                render_kernel(p, cam, size, threads, &mut img)
+            )
         })
     })?;
-    let flat: Vec<f32> = out.map_err(core_err)?.into_iter().flatten().collect();
+    out.map_err(core_err)?;
+    let flat: Vec<f32> = img
+        .into_iter()
+        .flat_map(|s| [s.c[0], s.c[1], s.c[2], s.a])
+        .collect();
     let img = Array3::from_shape_vec((height, width, 4), flat)
         .map_err(|e| value_err(format!("internal shape error: {e}")))?;
     Ok(img.into_pyarray(py))
