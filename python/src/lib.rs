@@ -19,6 +19,7 @@ use volsample::downsample::integer::{downsample_level_int, IntFilter4, IntOpacit
 use volsample::downsample::{downsample_level as ds_level, level_dims, ExtinctionBased};
 use volsample::downsample::{Filter4, Method, OpacityBased};
 use volsample::fixed_point::{IntFilter, IntMode};
+use volsample::mode::{ExtinctionWeightedU8, TauTable};
 use volsample::{
     AssociatedF32, AssociatedU8, Error, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack,
     IntStop, Mode, Nearest, OpacityWeighted, Preweighted, RayMarcher, Sample, Separate, Step,
@@ -27,6 +28,7 @@ use volsample::{
 
 mod camera;
 use camera::{Camera, CameraKind};
+use post::TransferFunction;
 
 /// The core's error as a `ValueError` with its message.
 fn core_err(e: Error) -> PyErr {
@@ -151,6 +153,8 @@ enum ModeName {
     OpacityWeighted,
     Preweighted,
     Extinction,
+    ExtinctionU8,
+    PostClassified,
 }
 
 fn parse_mode(name: &str) -> PyResult<ModeName> {
@@ -159,9 +163,11 @@ fn parse_mode(name: &str) -> PyResult<ModeName> {
         "opacity_weighted" => ModeName::OpacityWeighted,
         "preweighted" => ModeName::Preweighted,
         "extinction" => ModeName::Extinction,
+        "extinction_u8" => ModeName::ExtinctionU8,
+        "post_classified" => ModeName::PostClassified,
         other => {
             return Err(value_err(format!(
-                "unknown mode {other:?}: expected 'separate', 'opacity_weighted', 'preweighted' or 'extinction'"
+                "unknown mode {other:?}: expected 'separate', 'opacity_weighted', 'preweighted', 'extinction', 'extinction_u8' or 'post_classified'"
             )))
         }
     })
@@ -190,6 +196,9 @@ macro_rules! with_filter {
         }
     };
 }
+
+// After the macros they use (textual scope).
+mod post;
 
 /// What a float pipeline needs besides mode, filter and voxels.
 #[derive(Clone, Copy)]
@@ -236,14 +245,14 @@ where
         .collect())
 }
 
-/// The voxels a mode reads from the given channels, or why it cannot.
+/// The voxels a mode reads from the given channels, or why it cannot; `d_ref` is the distance
+/// the stored opacities hold for (the `τ` table of `extinction_u8`).
 fn dispatch_float<R>(
     channels: &Channels,
     mode: ModeName,
-    filter: FilterName,
+    d_ref: f32,
     run: impl FnOnce(FloatJob) -> Result<R, Error>,
 ) -> PyResult<Result<R, Error>> {
-    let _ = filter;
     let job = match (mode, channels) {
         (ModeName::Separate | ModeName::OpacityWeighted, Channels::U8(d)) => {
             FloatJob::StraightU8(d.iter().map(|&c| StraightU8(c)).collect())
@@ -275,6 +284,20 @@ fn dispatch_float<R>(
                 "mode 'extinction' reads float32 (C^tau r, g, b, tau) voxels: convert a straight volume with to_extinction()",
             ))
         }
+        (ModeName::ExtinctionU8, Channels::U8(d)) => match TauTable::new(d_ref) {
+            Ok(t) => FloatJob::ExtinctionU8(d.iter().map(|&c| StraightU8(c)).collect(), Box::new(t)),
+            Err(e) => return Ok(Err(e)),
+        },
+        (ModeName::ExtinctionU8, Channels::F32(_)) => {
+            return Err(value_err(
+                "mode 'extinction_u8' reads straight uint8 RGBA: for float32 use to_extinction() and mode 'extinction'",
+            ))
+        }
+        (ModeName::PostClassified, _) => {
+            return Err(value_err(
+                "mode 'post_classified' needs a scalar volume and tf=TransferFunction(...)",
+            ))
+        }
     };
     Ok(run(job))
 }
@@ -286,6 +309,8 @@ enum FloatJob {
     AssociatedU8(Vec<AssociatedU8>),
     AssociatedF32(Vec<AssociatedF32>),
     ExtinctionF32(Vec<ExtinctionF32>),
+    /// Straight bytes and the `τ` table of their opacities.
+    ExtinctionU8(Vec<StraightU8>, Box<TauTable>),
 }
 
 /// Runs a generic float kernel `$k(data, mode, filter)` for every (mode, voxel, filter).
@@ -299,6 +324,7 @@ macro_rules! run_float {
             (FloatJob::AssociatedU8(d), _) => with_filter!($filter, f => $k(&d, Preweighted, f, $($arg),*)),
             (FloatJob::AssociatedF32(d), _) => with_filter!($filter, f => $k(&d, Preweighted, f, $($arg),*)),
             (FloatJob::ExtinctionF32(d), _) => with_filter!($filter, f => $k(&d, ExtinctionWeighted, f, $($arg),*)),
+            (FloatJob::ExtinctionU8(d, t), _) => with_filter!($filter, f => $k(&d, ExtinctionWeightedU8::new(&t), f, $($arg),*)),
         }
     };
 }
@@ -316,6 +342,19 @@ where
     F: Filter,
 {
     sample_all(data, p, mode, filter, pos)
+}
+
+/// The transfer function of mode `post_classified`, `None` for the other modes; an error
+/// where one is given without the other.
+fn check_tf(mode: ModeName, tf: Option<&TransferFunction>) -> PyResult<Option<&TransferFunction>> {
+    match (mode, tf) {
+        (ModeName::PostClassified, Some(tf)) => Ok(Some(tf)),
+        (ModeName::PostClassified, None) => Err(value_err(
+            "mode 'post_classified' needs tf=TransferFunction(...)",
+        )),
+        (_, None) => Ok(None),
+        (_, Some(_)) => Err(value_err("tf is read by mode 'post_classified' only")),
+    }
 }
 
 fn to_array2<T: Copy + numpy::Element>(rows: Vec<[T; 4]>) -> PyResult<Array2<T>> {
@@ -338,7 +377,8 @@ fn to_array4<T: Copy + numpy::Element>(
 /// segment of length `step` at each position, as `RayMarcher::sample` computes it
 /// (opacity-corrected from `reference_distance` to `step` for the opacity-based modes).
 #[pyfunction]
-#[pyo3(signature = (volume, positions, mode = "opacity_weighted", filter = "trilinear", step = 1.0, reference_distance = 1.0))]
+#[pyo3(signature = (volume, positions, mode = "opacity_weighted", filter = "trilinear", step = 1.0, reference_distance = 1.0, tf = None))]
+#[allow(clippy::too_many_arguments)]
 fn sample<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
@@ -347,17 +387,22 @@ fn sample<'py>(
     filter: &str,
     step: f32,
     reference_distance: f32,
+    tf: Option<PyRef<'py, TransferFunction>>,
 ) -> PyResult<Bound<'py, PyArray2<f32>>> {
-    let vol = read_volume(volume)?;
     let pos = read_positions(positions)?;
     let (mode, filter) = (parse_mode(mode)?, parse_filter(filter)?);
+    if let Some(tf) = check_tf(mode, tf.as_deref())? {
+        let out = post::sample_post(py, volume, &pos, tf, filter, step, reference_distance)?;
+        return Ok(to_array2(out)?.into_pyarray(py));
+    }
+    let vol = read_volume(volume)?;
     let p = Params {
         dims: vol.dims,
         step,
         d_ref: reference_distance,
     };
     let out = py.allow_threads(|| {
-        dispatch_float(&vol.channels, mode, filter, |job| {
+        dispatch_float(&vol.channels, mode, reference_distance, |job| {
             run_float!(job, mode, filter, sample_kernel(p, &pos))
         })
     })?;
@@ -437,7 +482,10 @@ fn sample_int<'py>(
     let vol = read_volume(volume)?;
     let pos = read_positions(positions)?;
     let (mode, filter) = (parse_mode(mode)?, parse_filter(filter)?);
-    if matches!(mode, ModeName::Extinction) {
+    if !matches!(
+        mode,
+        ModeName::Separate | ModeName::OpacityWeighted | ModeName::Preweighted
+    ) {
         return Err(value_err(
             "sample_int offers 'separate', 'opacity_weighted' (straight uint8) and 'preweighted' (associated uint8)",
         ));
@@ -849,7 +897,7 @@ where
 /// (`RayMarcher::render_into`, front to back, no early termination): a `(height, width, 4)`
 /// `float32` image of associated `(C̃, α)` pixels over a transparent background.
 #[pyfunction]
-#[pyo3(signature = (volume, camera, width, height, mode = "opacity_weighted", filter = "trilinear", step = 0.5, reference_distance = 1.0, threads = 1))]
+#[pyo3(signature = (volume, camera, width, height, mode = "opacity_weighted", filter = "trilinear", step = 0.5, reference_distance = 1.0, threads = 1, tf = None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -862,28 +910,34 @@ fn render<'py>(
     step: f32,
     reference_distance: f32,
     threads: usize,
+    tf: Option<PyRef<'py, TransferFunction>>,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
-    let vol = read_volume(volume)?;
     let (mode, filter) = (parse_mode(mode)?, parse_filter(filter)?);
-    let p = Params {
-        dims: vol.dims,
-        step,
-        d_ref: reference_distance,
-    };
     let cam = camera.kind;
     let size = (width, height);
     let mut img = pixels(size, Sample::TRANSPARENT)?;
-    let out = py.allow_threads(|| {
-        dispatch_float(&vol.channels, mode, filter, |job| {
-            run_float!(
-                job,
-                mode,
-                filter,
-                render_kernel(p, cam, size, threads, &mut img)
-            )
-        })
-    })?;
-    out.map_err(core_err)?;
+    if let Some(tf) = check_tf(mode, tf.as_deref())? {
+        let (r, s) = (reference_distance, step);
+        post::render_post(py, volume, tf, filter, (s, r), cam, size, threads, &mut img)?;
+    } else {
+        let vol = read_volume(volume)?;
+        let p = Params {
+            dims: vol.dims,
+            step,
+            d_ref: reference_distance,
+        };
+        let out = py.allow_threads(|| {
+            dispatch_float(&vol.channels, mode, reference_distance, |job| {
+                run_float!(
+                    job,
+                    mode,
+                    filter,
+                    render_kernel(p, cam, size, threads, &mut img)
+                )
+            })
+        })?;
+        out.map_err(core_err)?;
+    }
     let flat: Vec<f32> = img
         .into_iter()
         .flat_map(|s| [s.c[0], s.c[1], s.c[2], s.a])
@@ -906,5 +960,6 @@ fn _volsample(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(downsample_level_u8, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_class::<Camera>()?;
+    m.add_class::<TransferFunction>()?;
     Ok(())
 }

@@ -33,3 +33,17 @@ def extinction_level_abs(level: int, tau_max: float) -> float:
     """Extinction-based level ``level`` against an f64 model: ``7.5ε·ℓ·2^ℓ·τ_max`` (the core's
     doc), plus the f32 rounding of level 0's τ (relative 2ε, doubled per level)."""
     return 7.5 * EPS32 * level * 2 ** level * tau_max + 2 * EPS32 * 2 ** level * tau_max
+
+
+def post_classified_abs(slope: float, s_max: float, taps: int = 8) -> float:
+    """Post-classified sampling at ``d = d′`` against the f64 model: ``α`` and each ``C̃``
+    within ``3ε + L·taps·ε·s_max``, ``L`` the transfer function's steepest slope and ``s_max``
+    the largest scalar magnitude (the core's doc of ``PostClassified``)."""
+    return (3 + slope * taps * s_max) * EPS32
+
+
+def tf_eval_abs(slope: float, m: float) -> float:
+    """``TransferFunction.eval``: within ``3ε + 2ε·L·m`` of the exact piecewise-linear value,
+    ``m`` the largest magnitude among ``s`` and the segment's ends (the core's doc)."""
+    return (3 + 2 * slope * m) * EPS32
+

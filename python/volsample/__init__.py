@@ -18,6 +18,7 @@ centres at integer coordinates. Errors are ``ValueError`` with the core's messag
 
 from ._volsample import (
     Camera,
+    TransferFunction,
     correct_opacity,
     downsample_level,
     downsample_level_u8,
@@ -31,6 +32,7 @@ from ._volsample import (
 
 __all__ = [
     "Camera",
+    "TransferFunction",
     "correct_opacity",
     "downsample_level",
     "downsample_level_u8",
