@@ -18,12 +18,11 @@ use pyo3::prelude::*;
 use volsample::downsample::integer::{downsample_level_int, IntFilter4, IntOpacityBased};
 use volsample::downsample::{downsample_level as ds_level, level_dims, ExtinctionBased};
 use volsample::downsample::{Filter4, Method, OpacityBased};
-use volsample::fixed_point::{IntFilter, IntMode};
 use volsample::mode::{ExtinctionWeightedU8, TauTable};
 use volsample::{
     AssociatedF32, AssociatedU8, Error, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack,
-    IntStop, Mode, Nearest, OpacityWeighted, Preweighted, RayMarcher, Sample, Separate, Step,
-    StraightF32, StraightU8, Trilinear, TriquadraticBSpline, Volume,
+    Mode, Nearest, OpacityWeighted, Preweighted, RayMarcher, Sample, Separate, Step, StraightF32,
+    StraightU8, Trilinear, TriquadraticBSpline, Volume,
 };
 
 mod camera;
@@ -198,6 +197,7 @@ macro_rules! with_filter {
 }
 
 // After the macros they use (textual scope).
+mod int;
 mod post;
 
 /// What a float pipeline needs besides mode, filter and voxels.
@@ -405,127 +405,6 @@ fn sample<'py>(
         dispatch_float(&vol.channels, mode, reference_distance, |job| {
             run_float!(job, mode, filter, sample_kernel(p, &pos))
         })
-    })?;
-    Ok(to_array2(out.map_err(core_err)?)?.into_pyarray(py))
-}
-
-fn sample_int_kernel<V, M, Fl, const F: u32>(
-    data: &[V],
-    mode: M,
-    filter: Fl,
-    p: Params,
-    pos: &[[f32; 3]],
-) -> Result<Vec<[u16; 4]>, Error>
-where
-    V: volsample::voxel::Voxel,
-    M: IntMode<V>,
-    Fl: IntFilter,
-{
-    let vol = Volume::new(data, p.dims)?.with_reference_distance(p.d_ref)?;
-    let m = volsample::render::IntRayMarcher::<V, M, Fl, F>::new(
-        vol,
-        mode,
-        filter,
-        IntStop::NEVER,
-        Step::new(p.step)?,
-    )?;
-    Ok(pos
-        .iter()
-        .map(|&q| {
-            let s = m.sample(q);
-            let c = s.c();
-            [c[0], c[1], c[2], s.a()]
-        })
-        .collect())
-}
-
-macro_rules! int_modes {
-    ($F:literal, $mode:expr, $filter:expr, $d:expr, $a:expr, $p:expr, $pos:expr) => {
-        match ($mode, $filter) {
-            (ModeName::Separate, FilterName::Nearest) => {
-                sample_int_kernel::<_, _, _, $F>(&$d, Separate, Nearest, $p, $pos)
-            }
-            (ModeName::Separate, _) => {
-                sample_int_kernel::<_, _, _, $F>(&$d, Separate, Trilinear::new(), $p, $pos)
-            }
-            (ModeName::OpacityWeighted, FilterName::Nearest) => {
-                sample_int_kernel::<_, _, _, $F>(&$d, OpacityWeighted, Nearest, $p, $pos)
-            }
-            (ModeName::OpacityWeighted, _) => {
-                sample_int_kernel::<_, _, _, $F>(&$d, OpacityWeighted, Trilinear::new(), $p, $pos)
-            }
-            (_, FilterName::Nearest) => {
-                sample_int_kernel::<_, _, _, $F>(&$a, Preweighted, Nearest, $p, $pos)
-            }
-            (_, _) => {
-                sample_int_kernel::<_, _, _, $F>(&$a, Preweighted, Trilinear::new(), $p, $pos)
-            }
-        }
-    };
-}
-
-/// Samples a `uint8` volume with the bit-exact integer kernels at `frac_bits` fractional
-/// position bits: U8.8 associated samples (`65280` = opacity 1) as `uint16` `(n, 4)`.
-#[pyfunction]
-#[pyo3(signature = (volume, positions, mode = "opacity_weighted", filter = "trilinear", step = 1.0, reference_distance = 1.0, frac_bits = 8))]
-#[allow(clippy::too_many_arguments)]
-fn sample_int<'py>(
-    py: Python<'py>,
-    volume: &Bound<'py, PyAny>,
-    positions: PyReadonlyArray2<'py, f32>,
-    mode: &str,
-    filter: &str,
-    step: f32,
-    reference_distance: f32,
-    frac_bits: u32,
-) -> PyResult<Bound<'py, PyArray2<u16>>> {
-    let vol = read_volume(volume)?;
-    let pos = read_positions(positions)?;
-    let (mode, filter) = (parse_mode(mode)?, parse_filter(filter)?);
-    if !matches!(
-        mode,
-        ModeName::Separate | ModeName::OpacityWeighted | ModeName::Preweighted
-    ) {
-        return Err(value_err(
-            "sample_int offers 'separate', 'opacity_weighted' (straight uint8) and 'preweighted' (associated uint8)",
-        ));
-    }
-    if !matches!(filter, FilterName::Nearest | FilterName::Trilinear) {
-        return Err(value_err(
-            "the integer kernels offer the filters 'nearest' and 'trilinear'",
-        ));
-    }
-    let Channels::U8(raw) = vol.channels else {
-        return Err(value_err("sample_int reads uint8 volumes"));
-    };
-    let p = Params {
-        dims: vol.dims,
-        step,
-        d_ref: reference_distance,
-    };
-    let out = py.allow_threads(|| {
-        let s: Vec<StraightU8> = if matches!(mode, ModeName::Preweighted) {
-            Vec::new()
-        } else {
-            raw.iter().map(|&c| StraightU8(c)).collect()
-        };
-        let a: Vec<AssociatedU8> = if matches!(mode, ModeName::Preweighted) {
-            raw.iter().map(|&c| AssociatedU8(c)).collect()
-        } else {
-            Vec::new()
-        };
-        match frac_bits {
-            4 => Ok(int_modes!(4, mode, filter, s, a, p, &pos)),
-            5 => Ok(int_modes!(5, mode, filter, s, a, p, &pos)),
-            6 => Ok(int_modes!(6, mode, filter, s, a, p, &pos)),
-            7 => Ok(int_modes!(7, mode, filter, s, a, p, &pos)),
-            8 => Ok(int_modes!(8, mode, filter, s, a, p, &pos)),
-            9 => Ok(int_modes!(9, mode, filter, s, a, p, &pos)),
-            10 => Ok(int_modes!(10, mode, filter, s, a, p, &pos)),
-            11 => Ok(int_modes!(11, mode, filter, s, a, p, &pos)),
-            12 => Ok(int_modes!(12, mode, filter, s, a, p, &pos)),
-            _ => Err(value_err("frac_bits must lie in 4..=12")),
-        }
     })?;
     Ok(to_array2(out.map_err(core_err)?)?.into_pyarray(py))
 }
@@ -951,7 +830,10 @@ fn render<'py>(
 #[pymodule]
 fn _volsample(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sample, m)?)?;
-    m.add_function(wrap_pyfunction!(sample_int, m)?)?;
+    m.add_function(wrap_pyfunction!(int::sample_int, m)?)?;
+    m.add_function(wrap_pyfunction!(int::render_int, m)?)?;
+    m.add_function(wrap_pyfunction!(int::to_extinction_fx, m)?)?;
+    m.add_function(wrap_pyfunction!(int::downsample_level_int, m)?)?;
     m.add_function(wrap_pyfunction!(correct_opacity, m)?)?;
     m.add_function(wrap_pyfunction!(to_associated, m)?)?;
     m.add_function(wrap_pyfunction!(to_extinction, m)?)?;

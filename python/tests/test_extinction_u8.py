@@ -74,5 +74,5 @@ def test_bad_input():
     with pytest.raises(ValueError, match="reference distance"):
         volsample.sample(np.zeros((2, 2, 2, 4), np.uint8), pos, mode="extinction_u8",
                          reference_distance=0.0)
-    with pytest.raises(ValueError, match="offer"):
+    with pytest.raises(ValueError, match="integer kernels offer the modes"):
         volsample.sample_int(np.zeros((2, 2, 2, 4), np.uint8), pos, mode="extinction_u8")

@@ -47,3 +47,27 @@ def tf_eval_abs(slope: float, m: float) -> float:
     ``m`` the largest magnitude among ``s`` and the segment's ends (the core's doc)."""
     return (3 + 2 * slope * m) * EPS32
 
+
+#: U8.8 full scale: opacity 1.
+ONE = 65280
+
+
+def extinction_int_a_lsb(nodes: int) -> float:
+    """Integer ``IntExtinction``: ``α`` within ``½ + ONE·h²/(8e) + 0.01`` U8.8 LSB of the exact
+    ``1 − e^(−x)`` of the same stored voxels and weights, ``h = 1/(N − 1)`` (the core's doc)."""
+    h = 1.0 / (nodes - 1)
+    return 0.5 + ONE * h * h / (8 * 2.718281828459045) + 0.01
+
+
+def extinction_int_c_lsb(nodes: int) -> float:
+    """The same for each ``C̃``: ``1 + ONE·h²/(8e) + 0.01`` U8.8 LSB (the core's doc)."""
+    return extinction_int_a_lsb(nodes) + 0.5
+
+
+#: One level of the integer extinction-based downsampling: ``D′`` and each ``(D·C)′`` within
+#: ½ U7.20 LSB of the exact method with the quantized taps (one rounding; the core's doc).
+#: The f64 model's own rounding (sums below 2^31 with 53-bit products) adds below 1e-6.
+INT_EXTINCTION_LEVEL_LSB = 0.5 + 1e-6
+
+#: One level of the integer opacity-based downsampling: within ``½ + 2^−8`` storage LSB.
+INT_OPACITY_LEVEL_LSB = 0.5 + 2 ** -8

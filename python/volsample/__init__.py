@@ -21,13 +21,16 @@ from ._volsample import (
     TransferFunction,
     correct_opacity,
     downsample_level,
+    downsample_level_int,
     downsample_level_u8,
     pyramid,
     render,
+    render_int,
     sample,
     sample_int,
     to_associated,
     to_extinction,
+    to_extinction_fx,
 )
 
 __all__ = [
@@ -35,11 +38,14 @@ __all__ = [
     "TransferFunction",
     "correct_opacity",
     "downsample_level",
+    "downsample_level_int",
     "downsample_level_u8",
     "pyramid",
     "render",
+    "render_int",
     "sample",
     "sample_int",
     "to_associated",
     "to_extinction",
+    "to_extinction_fx",
 ]
