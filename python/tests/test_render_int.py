@@ -1,6 +1,9 @@
 """render_int: the integer ray marcher (IntRayMarcher), checked against an exact integer model
 of its samples and of the integer front-to-back compositing (every rounding half up)."""
 
+import threading
+import time
+
 import numpy as np
 import pytest
 
@@ -102,6 +105,34 @@ def test_threads_give_the_same_image_and_track_the_float_render(rng):
     # a wrong channel or a missed correction would give.
     assert np.abs(one / ONE - flt).max() < 0.002
     assert flt[..., 3].max() > 0.5
+
+
+@pytest.mark.parametrize("mode", ["opacity_weighted", "extinction"])
+def test_the_gil_is_released(rng, mode):
+    # A second Python thread keeps running while render_int is in the kernel.
+    vol = random_straight_u8(rng, (32, 32, 32))
+    if mode == "extinction":
+        vol = volsample.to_extinction_fx(vol)
+    cam = volsample.Camera.looking_down_z(vol.shape)
+    ticks = []
+    done = threading.Event()
+
+    def ticker():
+        while not done.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+
+    t = threading.Thread(target=ticker)
+    t.start()
+    t0 = time.perf_counter()
+    size = 128 if mode == "opacity_weighted" else 256  # about 0.4 s each here
+    volsample.render_int(vol, cam, size, size, mode=mode, step=0.05)
+    t1 = time.perf_counter()
+    done.set()
+    t.join()
+    during = [x for x in ticks if t0 < x < t1]
+    assert t1 - t0 > 0.05, "render too short to tell"
+    assert len(during) >= 5, (len(during), t1 - t0)
 
 
 def test_bad_input():
