@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import volsample
-from conftest import random_straight_u8
+from conftest import gil_free_ticks, random_straight_u8
 from test_sample import positions, scipy_sample
 from tolerance import EXTINCTION_SAMPLE_ABS
 
@@ -65,6 +65,15 @@ def test_render_equals_the_float32_extinction_render(rng):
     b = volsample.render(volsample.to_extinction(vol, 0.5), cam, 24, 20, mode="extinction")
     assert a.tobytes() == b.tobytes()
     assert a[..., 3].max() > 0.5
+
+
+def test_the_gil_is_released(rng):
+    vol = random_straight_u8(rng, (32, 32, 32))
+    cam = volsample.Camera.looking_down_z(vol.shape)
+    took, ticks = gil_free_ticks(lambda: volsample.render(
+        vol, cam, 256, 256, mode="extinction_u8", step=0.05))
+    assert took > 0.05, "render too short to tell"
+    assert ticks >= 5, (ticks, took)
 
 
 def test_bad_input():

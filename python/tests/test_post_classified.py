@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import volsample
+from conftest import gil_free_ticks
 from test_sample import positions, scipy_sample
 from tolerance import CORRECTION_ABS, post_classified_abs, tf_eval_abs
 
@@ -107,6 +108,16 @@ def test_render_composites_the_classified_column(rng):
                 c += (1 - a) * s[z, j, i, :3]
                 a += (1 - a) * s[z, j, i, 3]
             assert np.abs(img[j, i, :3] - c).max() < 1e-5 and abs(img[j, i, 3] - a) < 1e-5
+
+
+def test_the_gil_is_released(rng):
+    vol = rng.integers(0, 256, (32, 32, 32)).astype(np.uint16)
+    tf = volsample.TransferFunction(POINTS)
+    cam = volsample.Camera.looking_down_z(vol.shape)
+    took, ticks = gil_free_ticks(lambda: volsample.render(
+        vol, cam, 128, 128, mode="post_classified", tf=tf, step=0.05))
+    assert took > 0.05, "render too short to tell"
+    assert ticks >= 5, (ticks, took)
 
 
 def test_bad_input():

@@ -1,14 +1,11 @@
 """render_int: the integer ray marcher (IntRayMarcher), checked against an exact integer model
 of its samples and of the integer front-to-back compositing (every rounding half up)."""
 
-import threading
-import time
-
 import numpy as np
 import pytest
 
 import volsample
-from conftest import random_straight_u8
+from conftest import gil_free_ticks, random_straight_u8
 from tolerance import ONE, extinction_int_a_lsb, extinction_int_c_lsb
 
 
@@ -114,25 +111,11 @@ def test_the_gil_is_released(rng, mode):
     if mode == "extinction":
         vol = volsample.to_extinction_fx(vol)
     cam = volsample.Camera.looking_down_z(vol.shape)
-    ticks = []
-    done = threading.Event()
-
-    def ticker():
-        while not done.is_set():
-            ticks.append(time.perf_counter())
-            time.sleep(0.001)
-
-    t = threading.Thread(target=ticker)
-    t.start()
-    t0 = time.perf_counter()
     size = 128 if mode == "opacity_weighted" else 256  # about 0.4 s each here
-    volsample.render_int(vol, cam, size, size, mode=mode, step=0.05)
-    t1 = time.perf_counter()
-    done.set()
-    t.join()
-    during = [x for x in ticks if t0 < x < t1]
-    assert t1 - t0 > 0.05, "render too short to tell"
-    assert len(during) >= 5, (len(during), t1 - t0)
+    took, ticks = gil_free_ticks(
+        lambda: volsample.render_int(vol, cam, size, size, mode=mode, step=0.05))
+    assert took > 0.05, "render too short to tell"
+    assert ticks >= 5, (ticks, took)
 
 
 def test_bad_input():
