@@ -75,8 +75,10 @@ def sample(volume: AnyVolume, positions: npt.NDArray[np.float32], mode: Mode = .
     extinction through a table of ``τ`` per opacity byte for ``reference_distance`` (bit for
     bit ``"extinction"`` on ``to_extinction(volume, reference_distance)``, a quarter of the
     memory), ``"post_classified"`` a scalar volume ``(z, y, x)`` (uint8, uint16 or float32)
-    interpolated, then classified by ``tf`` (``C̃ = α·C``). Opacity-based modes (all but the
-    two extinction modes) are corrected from ``reference_distance`` to ``step``.
+    interpolated, then classified by ``tf`` (``C̃ = α·C``; at ``step = reference_distance``
+    ``α`` and each ``C̃`` within ``3ε + L·taps·ε·s_max`` of the exact value, ``L`` the steepest
+    slope of ``tf``, ``s_max`` the largest scalar, ``ε = 2^−23``). Opacity-based modes (all but
+    the two extinction modes) are corrected from ``reference_distance`` to ``step``.
 
     >>> import numpy as np
     >>> vol = np.zeros((2, 2, 2, 4), np.uint8); vol[..., 3] = 255; vol[..., 0] = 255
