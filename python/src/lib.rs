@@ -13,20 +13,21 @@
 use numpy::ndarray::{Array2, Array3, Array4};
 use numpy::PyUntypedArrayMethods;
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyArray4, PyReadonlyArray2, PyReadonlyArray4};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use volsample::downsample::integer::{downsample_level_int, IntFilter4, IntOpacityBased};
 use volsample::downsample::{downsample_level as ds_level, level_dims, ExtinctionBased};
 use volsample::downsample::{Filter4, Method, OpacityBased};
-use volsample::fixed_point::{IntFilter, IntMode};
+use volsample::mode::{ExtinctionWeightedU8, TauTable};
 use volsample::{
     AssociatedF32, AssociatedU8, Error, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack,
-    IntStop, Mode, Nearest, OpacityWeighted, Preweighted, RayMarcher, Sample, Separate, Step,
-    StraightF32, StraightU8, Trilinear, TriquadraticBSpline, Volume,
+    Mode, Nearest, OpacityWeighted, Preweighted, RayMarcher, Sample, Separate, Step, StraightF32,
+    StraightU8, Trilinear, TriquadraticBSpline, Volume,
 };
 
 mod camera;
 use camera::{Camera, CameraKind};
+use post::TransferFunction;
 
 /// The core's error as a `ValueError` with its message.
 fn core_err(e: Error) -> PyErr {
@@ -151,6 +152,8 @@ enum ModeName {
     OpacityWeighted,
     Preweighted,
     Extinction,
+    ExtinctionU8,
+    PostClassified,
 }
 
 fn parse_mode(name: &str) -> PyResult<ModeName> {
@@ -159,9 +162,11 @@ fn parse_mode(name: &str) -> PyResult<ModeName> {
         "opacity_weighted" => ModeName::OpacityWeighted,
         "preweighted" => ModeName::Preweighted,
         "extinction" => ModeName::Extinction,
+        "extinction_u8" => ModeName::ExtinctionU8,
+        "post_classified" => ModeName::PostClassified,
         other => {
             return Err(value_err(format!(
-                "unknown mode {other:?}: expected 'separate', 'opacity_weighted', 'preweighted' or 'extinction'"
+                "unknown mode {other:?}: expected 'separate', 'opacity_weighted', 'preweighted', 'extinction', 'extinction_u8' or 'post_classified'"
             )))
         }
     })
@@ -190,6 +195,10 @@ macro_rules! with_filter {
         }
     };
 }
+
+// After the macros they use (textual scope).
+mod int;
+mod post;
 
 /// What a float pipeline needs besides mode, filter and voxels.
 #[derive(Clone, Copy)]
@@ -236,14 +245,14 @@ where
         .collect())
 }
 
-/// The voxels a mode reads from the given channels, or why it cannot.
+/// The voxels a mode reads from the given channels, or why it cannot; `d_ref` is the distance
+/// the stored opacities hold for (the `τ` table of `extinction_u8`).
 fn dispatch_float<R>(
     channels: &Channels,
     mode: ModeName,
-    filter: FilterName,
+    d_ref: f32,
     run: impl FnOnce(FloatJob) -> Result<R, Error>,
 ) -> PyResult<Result<R, Error>> {
-    let _ = filter;
     let job = match (mode, channels) {
         (ModeName::Separate | ModeName::OpacityWeighted, Channels::U8(d)) => {
             FloatJob::StraightU8(d.iter().map(|&c| StraightU8(c)).collect())
@@ -275,6 +284,20 @@ fn dispatch_float<R>(
                 "mode 'extinction' reads float32 (C^tau r, g, b, tau) voxels: convert a straight volume with to_extinction()",
             ))
         }
+        (ModeName::ExtinctionU8, Channels::U8(d)) => match TauTable::new(d_ref) {
+            Ok(t) => FloatJob::ExtinctionU8(d.iter().map(|&c| StraightU8(c)).collect(), Box::new(t)),
+            Err(e) => return Ok(Err(e)),
+        },
+        (ModeName::ExtinctionU8, Channels::F32(_)) => {
+            return Err(value_err(
+                "mode 'extinction_u8' reads straight uint8 RGBA: for float32 use to_extinction() and mode 'extinction'",
+            ))
+        }
+        (ModeName::PostClassified, _) => {
+            return Err(value_err(
+                "mode 'post_classified' needs a scalar volume and tf=TransferFunction(...)",
+            ))
+        }
     };
     Ok(run(job))
 }
@@ -286,6 +309,8 @@ enum FloatJob {
     AssociatedU8(Vec<AssociatedU8>),
     AssociatedF32(Vec<AssociatedF32>),
     ExtinctionF32(Vec<ExtinctionF32>),
+    /// Straight bytes and the `τ` table of their opacities.
+    ExtinctionU8(Vec<StraightU8>, Box<TauTable>),
 }
 
 /// Runs a generic float kernel `$k(data, mode, filter)` for every (mode, voxel, filter).
@@ -299,6 +324,7 @@ macro_rules! run_float {
             (FloatJob::AssociatedU8(d), _) => with_filter!($filter, f => $k(&d, Preweighted, f, $($arg),*)),
             (FloatJob::AssociatedF32(d), _) => with_filter!($filter, f => $k(&d, Preweighted, f, $($arg),*)),
             (FloatJob::ExtinctionF32(d), _) => with_filter!($filter, f => $k(&d, ExtinctionWeighted, f, $($arg),*)),
+            (FloatJob::ExtinctionU8(d, t), _) => with_filter!($filter, f => $k(&d, ExtinctionWeightedU8::new(&t), f, $($arg),*)),
         }
     };
 }
@@ -316,6 +342,19 @@ where
     F: Filter,
 {
     sample_all(data, p, mode, filter, pos)
+}
+
+/// The transfer function of mode `post_classified`, `None` for the other modes; an error
+/// where one is given without the other.
+fn check_tf(mode: ModeName, tf: Option<&TransferFunction>) -> PyResult<Option<&TransferFunction>> {
+    match (mode, tf) {
+        (ModeName::PostClassified, Some(tf)) => Ok(Some(tf)),
+        (ModeName::PostClassified, None) => Err(value_err(
+            "mode 'post_classified' needs tf=TransferFunction(...)",
+        )),
+        (_, None) => Ok(None),
+        (_, Some(_)) => Err(value_err("tf is read by mode 'post_classified' only")),
+    }
 }
 
 fn to_array2<T: Copy + numpy::Element>(rows: Vec<[T; 4]>) -> PyResult<Array2<T>> {
@@ -338,7 +377,8 @@ fn to_array4<T: Copy + numpy::Element>(
 /// segment of length `step` at each position, as `RayMarcher::sample` computes it
 /// (opacity-corrected from `reference_distance` to `step` for the opacity-based modes).
 #[pyfunction]
-#[pyo3(signature = (volume, positions, mode = "opacity_weighted", filter = "trilinear", step = 1.0, reference_distance = 1.0))]
+#[pyo3(signature = (volume, positions, mode = "opacity_weighted", filter = "trilinear", step = 1.0, reference_distance = 1.0, tf = None))]
+#[allow(clippy::too_many_arguments)]
 fn sample<'py>(
     py: Python<'py>,
     volume: &Bound<'py, PyAny>,
@@ -347,137 +387,24 @@ fn sample<'py>(
     filter: &str,
     step: f32,
     reference_distance: f32,
+    tf: Option<PyRef<'py, TransferFunction>>,
 ) -> PyResult<Bound<'py, PyArray2<f32>>> {
-    let vol = read_volume(volume)?;
     let pos = read_positions(positions)?;
     let (mode, filter) = (parse_mode(mode)?, parse_filter(filter)?);
+    if let Some(tf) = check_tf(mode, tf.as_deref())? {
+        let out = post::sample_post(py, volume, &pos, tf, filter, step, reference_distance)?;
+        return Ok(to_array2(out)?.into_pyarray(py));
+    }
+    let vol = read_volume(volume)?;
     let p = Params {
         dims: vol.dims,
         step,
         d_ref: reference_distance,
     };
     let out = py.allow_threads(|| {
-        dispatch_float(&vol.channels, mode, filter, |job| {
+        dispatch_float(&vol.channels, mode, reference_distance, |job| {
             run_float!(job, mode, filter, sample_kernel(p, &pos))
         })
-    })?;
-    Ok(to_array2(out.map_err(core_err)?)?.into_pyarray(py))
-}
-
-fn sample_int_kernel<V, M, Fl, const F: u32>(
-    data: &[V],
-    mode: M,
-    filter: Fl,
-    p: Params,
-    pos: &[[f32; 3]],
-) -> Result<Vec<[u16; 4]>, Error>
-where
-    V: volsample::voxel::Voxel,
-    M: IntMode<V>,
-    Fl: IntFilter,
-{
-    let vol = Volume::new(data, p.dims)?.with_reference_distance(p.d_ref)?;
-    let m = volsample::render::IntRayMarcher::<V, M, Fl, F>::new(
-        vol,
-        mode,
-        filter,
-        IntStop::NEVER,
-        Step::new(p.step)?,
-    )?;
-    Ok(pos
-        .iter()
-        .map(|&q| {
-            let s = m.sample(q);
-            let c = s.c();
-            [c[0], c[1], c[2], s.a()]
-        })
-        .collect())
-}
-
-macro_rules! int_modes {
-    ($F:literal, $mode:expr, $filter:expr, $d:expr, $a:expr, $p:expr, $pos:expr) => {
-        match ($mode, $filter) {
-            (ModeName::Separate, FilterName::Nearest) => {
-                sample_int_kernel::<_, _, _, $F>(&$d, Separate, Nearest, $p, $pos)
-            }
-            (ModeName::Separate, _) => {
-                sample_int_kernel::<_, _, _, $F>(&$d, Separate, Trilinear::new(), $p, $pos)
-            }
-            (ModeName::OpacityWeighted, FilterName::Nearest) => {
-                sample_int_kernel::<_, _, _, $F>(&$d, OpacityWeighted, Nearest, $p, $pos)
-            }
-            (ModeName::OpacityWeighted, _) => {
-                sample_int_kernel::<_, _, _, $F>(&$d, OpacityWeighted, Trilinear::new(), $p, $pos)
-            }
-            (_, FilterName::Nearest) => {
-                sample_int_kernel::<_, _, _, $F>(&$a, Preweighted, Nearest, $p, $pos)
-            }
-            (_, _) => {
-                sample_int_kernel::<_, _, _, $F>(&$a, Preweighted, Trilinear::new(), $p, $pos)
-            }
-        }
-    };
-}
-
-/// Samples a `uint8` volume with the bit-exact integer kernels at `frac_bits` fractional
-/// position bits: U8.8 associated samples (`65280` = opacity 1) as `uint16` `(n, 4)`.
-#[pyfunction]
-#[pyo3(signature = (volume, positions, mode = "opacity_weighted", filter = "trilinear", step = 1.0, reference_distance = 1.0, frac_bits = 8))]
-#[allow(clippy::too_many_arguments)]
-fn sample_int<'py>(
-    py: Python<'py>,
-    volume: &Bound<'py, PyAny>,
-    positions: PyReadonlyArray2<'py, f32>,
-    mode: &str,
-    filter: &str,
-    step: f32,
-    reference_distance: f32,
-    frac_bits: u32,
-) -> PyResult<Bound<'py, PyArray2<u16>>> {
-    let vol = read_volume(volume)?;
-    let pos = read_positions(positions)?;
-    let (mode, filter) = (parse_mode(mode)?, parse_filter(filter)?);
-    if matches!(mode, ModeName::Extinction) {
-        return Err(value_err(
-            "sample_int offers 'separate', 'opacity_weighted' (straight uint8) and 'preweighted' (associated uint8)",
-        ));
-    }
-    if !matches!(filter, FilterName::Nearest | FilterName::Trilinear) {
-        return Err(value_err(
-            "the integer kernels offer the filters 'nearest' and 'trilinear'",
-        ));
-    }
-    let Channels::U8(raw) = vol.channels else {
-        return Err(value_err("sample_int reads uint8 volumes"));
-    };
-    let p = Params {
-        dims: vol.dims,
-        step,
-        d_ref: reference_distance,
-    };
-    let out = py.allow_threads(|| {
-        let s: Vec<StraightU8> = if matches!(mode, ModeName::Preweighted) {
-            Vec::new()
-        } else {
-            raw.iter().map(|&c| StraightU8(c)).collect()
-        };
-        let a: Vec<AssociatedU8> = if matches!(mode, ModeName::Preweighted) {
-            raw.iter().map(|&c| AssociatedU8(c)).collect()
-        } else {
-            Vec::new()
-        };
-        match frac_bits {
-            4 => Ok(int_modes!(4, mode, filter, s, a, p, &pos)),
-            5 => Ok(int_modes!(5, mode, filter, s, a, p, &pos)),
-            6 => Ok(int_modes!(6, mode, filter, s, a, p, &pos)),
-            7 => Ok(int_modes!(7, mode, filter, s, a, p, &pos)),
-            8 => Ok(int_modes!(8, mode, filter, s, a, p, &pos)),
-            9 => Ok(int_modes!(9, mode, filter, s, a, p, &pos)),
-            10 => Ok(int_modes!(10, mode, filter, s, a, p, &pos)),
-            11 => Ok(int_modes!(11, mode, filter, s, a, p, &pos)),
-            12 => Ok(int_modes!(12, mode, filter, s, a, p, &pos)),
-            _ => Err(value_err("frac_bits must lie in 4..=12")),
-        }
     })?;
     Ok(to_array2(out.map_err(core_err)?)?.into_pyarray(py))
 }
@@ -774,6 +701,56 @@ fn downsample_level_u8<'py>(
     Ok(to_array4(data, od)?.into_pyarray(py))
 }
 
+/// A `width × height` image of `fill`: the core's error for a zero width or height, and
+/// `MemoryError` (not an abort) where it cannot be allocated.
+fn pixels<P: Clone>((w, h): (usize, usize), fill: P) -> PyResult<Vec<P>> {
+    if w == 0 || h == 0 {
+        return Err(core_err(Error::EmptyImage));
+    }
+    let too_big =
+        || PyMemoryError::new_err(format!("an image of {w}×{h} pixels does not fit in memory"));
+    let n = w.checked_mul(h).ok_or_else(too_big)?;
+    let mut img = Vec::new();
+    img.try_reserve_exact(n).map_err(|_| too_big())?;
+    img.resize(n, fill);
+    Ok(img)
+}
+
+/// Renders `img` (`width·height` pixels, row-major, not empty) in `threads` bands of whole
+/// rows on scoped threads, `band(first_row, rows)` each: a band's pixels are rendered as the
+/// whole image renders them, so the image is the same for any thread count.
+fn render_bands<P: Send>(
+    img: &mut [P],
+    (w, h): (usize, usize),
+    threads: usize,
+    band: impl Fn(usize, &mut [P]) -> Result<(), Error> + Sync,
+) -> Result<(), Error> {
+    if w == 0 || h == 0 {
+        return Err(Error::EmptyImage);
+    }
+    let threads = threads.clamp(1, h);
+    if threads == 1 {
+        return band(0, img);
+    }
+    let rows_per = h.div_ceil(threads);
+    let results: Vec<Result<(), Error>> = std::thread::scope(|s| {
+        let handles: Vec<_> = img
+            .chunks_mut(rows_per * w)
+            .enumerate()
+            .map(|(i, rows)| {
+                let band = &band;
+                s.spawn(move || band(i * rows_per, rows))
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or(Err(Error::EmptyImage)))
+            .collect()
+    });
+    results.into_iter().collect()
+}
+
+#[allow(clippy::too_many_arguments)]
 fn render_kernel<V, M, F>(
     data: &[V],
     mode: M,
@@ -782,51 +759,24 @@ fn render_kernel<V, M, F>(
     cam: CameraKind,
     size: (usize, usize),
     threads: usize,
-) -> Result<Vec<[f32; 4]>, Error>
+    img: &mut [Sample],
+) -> Result<(), Error>
 where
     V: volsample::voxel::Voxel + Sync,
     M: Mode<V> + Sync,
     F: Filter + Sync,
 {
     let m = marcher(data, p, mode, filter)?;
-    let (w, h) = size;
-    let mut img = vec![Sample::TRANSPARENT; w.checked_mul(h).ok_or(Error::EmptyImage)?];
-    let threads = threads.clamp(1, h.max(1));
-    if threads == 1 {
-        m.render_into(&cam, w, h, &mut img)?;
-    } else {
-        // Bands of whole rows on scoped threads: each pixel as `render_into` renders it.
-        let rows_per = h.div_ceil(threads);
-        let results: Vec<Result<(), Error>> = std::thread::scope(|s| {
-            let handles: Vec<_> = img
-                .chunks_mut(rows_per * w)
-                .enumerate()
-                .map(|(i, band)| {
-                    let m = &m;
-                    let cam = &cam;
-                    s.spawn(move || m.render_rows_into(cam, (w, h), i * rows_per, band))
-                })
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| h.join().unwrap_or(Err(Error::EmptyImage)))
-                .collect()
-        });
-        for r in results {
-            r?;
-        }
-    }
-    Ok(img
-        .into_iter()
-        .map(|s| [s.c[0], s.c[1], s.c[2], s.a])
-        .collect())
+    render_bands(img, size, threads, |first, band| {
+        m.render_rows_into(&cam, size, first, band)
+    })
 }
 
 /// Renders a volume with a camera through the library's fast path
 /// (`RayMarcher::render_into`, front to back, no early termination): a `(height, width, 4)`
 /// `float32` image of associated `(C̃, α)` pixels over a transparent background.
 #[pyfunction]
-#[pyo3(signature = (volume, camera, width, height, mode = "opacity_weighted", filter = "trilinear", step = 0.5, reference_distance = 1.0, threads = 1))]
+#[pyo3(signature = (volume, camera, width, height, mode = "opacity_weighted", filter = "trilinear", step = 0.5, reference_distance = 1.0, threads = 1, tf = None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -839,22 +789,38 @@ fn render<'py>(
     step: f32,
     reference_distance: f32,
     threads: usize,
+    tf: Option<PyRef<'py, TransferFunction>>,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
-    let vol = read_volume(volume)?;
     let (mode, filter) = (parse_mode(mode)?, parse_filter(filter)?);
-    let p = Params {
-        dims: vol.dims,
-        step,
-        d_ref: reference_distance,
-    };
     let cam = camera.kind;
     let size = (width, height);
-    let out = py.allow_threads(|| {
-        dispatch_float(&vol.channels, mode, filter, |job| {
-            run_float!(job, mode, filter, render_kernel(p, cam, size, threads))
-        })
-    })?;
-    let flat: Vec<f32> = out.map_err(core_err)?.into_iter().flatten().collect();
+    let mut img = pixels(size, Sample::TRANSPARENT)?;
+    if let Some(tf) = check_tf(mode, tf.as_deref())? {
+        let (r, s) = (reference_distance, step);
+        post::render_post(py, volume, tf, filter, (s, r), cam, size, threads, &mut img)?;
+    } else {
+        let vol = read_volume(volume)?;
+        let p = Params {
+            dims: vol.dims,
+            step,
+            d_ref: reference_distance,
+        };
+        let out = py.allow_threads(|| {
+            dispatch_float(&vol.channels, mode, reference_distance, |job| {
+                run_float!(
+                    job,
+                    mode,
+                    filter,
+                    render_kernel(p, cam, size, threads, &mut img)
+                )
+            })
+        })?;
+        out.map_err(core_err)?;
+    }
+    let flat: Vec<f32> = img
+        .into_iter()
+        .flat_map(|s| [s.c[0], s.c[1], s.c[2], s.a])
+        .collect();
     let img = Array3::from_shape_vec((height, width, 4), flat)
         .map_err(|e| value_err(format!("internal shape error: {e}")))?;
     Ok(img.into_pyarray(py))
@@ -864,7 +830,10 @@ fn render<'py>(
 #[pymodule]
 fn _volsample(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sample, m)?)?;
-    m.add_function(wrap_pyfunction!(sample_int, m)?)?;
+    m.add_function(wrap_pyfunction!(int::sample_int, m)?)?;
+    m.add_function(wrap_pyfunction!(int::render_int, m)?)?;
+    m.add_function(wrap_pyfunction!(int::to_extinction_fx, m)?)?;
+    m.add_function(wrap_pyfunction!(int::downsample_level_int, m)?)?;
     m.add_function(wrap_pyfunction!(correct_opacity, m)?)?;
     m.add_function(wrap_pyfunction!(to_associated, m)?)?;
     m.add_function(wrap_pyfunction!(to_extinction, m)?)?;
@@ -873,5 +842,6 @@ fn _volsample(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(downsample_level_u8, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_class::<Camera>()?;
+    m.add_class::<TransferFunction>()?;
     Ok(())
 }

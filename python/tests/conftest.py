@@ -21,3 +21,27 @@ def random_straight_u8(rng, shape):
     a[rng.random(shape) < 0.2] = 0
     a[rng.random(shape) < 0.1] = 255
     return v
+
+
+def gil_free_ticks(call):
+    """Runs ``call()`` while a second Python thread ticks every millisecond; returns the
+    call's duration and the ticks taken during it (many only if the call released the GIL)."""
+    import threading
+    import time
+
+    ticks = []
+    done = threading.Event()
+
+    def ticker():
+        while not done.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+
+    t = threading.Thread(target=ticker)
+    t.start()
+    t0 = time.perf_counter()
+    call()
+    t1 = time.perf_counter()
+    done.set()
+    t.join()
+    return t1 - t0, len([x for x in ticks if t0 < x < t1])

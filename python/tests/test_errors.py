@@ -56,3 +56,16 @@ def test_core_messages():
         volsample.correct_opacity(np.zeros((1, 4), np.float32), 0.0)
     with pytest.raises(ValueError, match="not a valid associated sample"):
         volsample.correct_opacity(np.array([[0.5, 0, 0, 0.25]], np.float32), 2.0)
+
+
+def test_images_that_cannot_be_made():
+    v = np.zeros((2, 2, 2, 4), np.uint8)
+    cam = volsample.Camera.looking_down_z(v.shape)
+    # A zero width split into row bands (it panicked in the band split).
+    with pytest.raises(ValueError, match="zero width or height"):
+        volsample.render(v, cam, 0, 4, threads=2)
+    # Too many pixels to allocate: an exception, not an abort.
+    with pytest.raises(MemoryError):
+        volsample.render(v, cam, 2 ** 40, 2 ** 30)
+    with pytest.raises(MemoryError):
+        volsample.render(v, cam, 2 ** 31, 2 ** 31)

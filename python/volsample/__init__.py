@@ -18,26 +18,34 @@ centres at integer coordinates. Errors are ``ValueError`` with the core's messag
 
 from ._volsample import (
     Camera,
+    TransferFunction,
     correct_opacity,
     downsample_level,
+    downsample_level_int,
     downsample_level_u8,
     pyramid,
     render,
+    render_int,
     sample,
     sample_int,
     to_associated,
     to_extinction,
+    to_extinction_fx,
 )
 
 __all__ = [
     "Camera",
+    "TransferFunction",
     "correct_opacity",
     "downsample_level",
+    "downsample_level_int",
     "downsample_level_u8",
     "pyramid",
     "render",
+    "render_int",
     "sample",
     "sample_int",
     "to_associated",
     "to_extinction",
+    "to_extinction_fx",
 ]

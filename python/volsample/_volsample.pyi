@@ -5,10 +5,42 @@ from typing import Literal, Sequence
 import numpy as np
 import numpy.typing as npt
 
-Mode = Literal["separate", "opacity_weighted", "preweighted", "extinction"]
+Mode = Literal["separate", "opacity_weighted", "preweighted", "extinction", "extinction_u8",
+               "post_classified"]
+IntModeName = Literal["separate", "opacity_weighted", "preweighted", "extinction"]
 FilterName = Literal["nearest", "trilinear", "trilinear_tree", "bspline", "triquadratic_bspline"]
 Method = Literal["opacity", "extinction"]
 VolumeArray = npt.NDArray[np.uint8] | npt.NDArray[np.float32]
+#: RGBA volumes ``(z, y, x, 4)`` or, for ``mode="post_classified"``, scalar volumes ``(z, y, x)``
+#: of ``uint8``, ``uint16`` or ``float32``.
+AnyVolume = VolumeArray | npt.NDArray[np.uint16]
+#: The integer kernels' volumes: straight or associated ``uint8`` RGBA, or ``uint32``
+#: ``ExtinctionFx`` voxels ``(D·C r, g, b, D)`` (see :func:`to_extinction_fx`).
+IntVolume = npt.NDArray[np.uint8] | npt.NDArray[np.uint32]
+
+class TransferFunction:
+    """A piecewise-linear transfer function (the core's ``TransferFunction``): scalar ``s`` to
+    straight color and opacity, linear between control points, the end values outside them.
+
+    ``points``: rows ``(s, r, g, b, a)``, ``s`` strictly increasing, colors and opacities in
+    ``[0, 1]`` (opacity for the reference distance), at most 256 rows. Raises ``ValueError``
+    with the core's message otherwise.
+
+    >>> import numpy as np
+    >>> tf = TransferFunction([(0, 0, 0, 0, 0), (100, 1, 1, 1, 1)])
+    >>> tf.eval(np.array([50, 1e9], np.float32)).tolist()
+    [[0.5, 0.5, 0.5, 0.5], [1.0, 1.0, 1.0, 1.0]]
+    """
+
+    def __init__(self, points: Sequence[Sequence[float]] | npt.NDArray[np.floating]) -> None: ...
+    @property
+    def points(self) -> npt.NDArray[np.float32]:
+        """The control points, ``(n, 5)`` ``float32`` rows ``(s, r, g, b, a)``."""
+    def eval(self, s: npt.NDArray[np.float32]) -> npt.NDArray[np.float32]:
+        """Straight ``(r, g, b, a)`` ``(n, 4)`` at the scalars ``s`` ``(n,)``, within
+        ``3ε + 2ε·L·m`` (``L`` the segment's slope, ``m`` the largest magnitude among ``s``
+        and the segment's ends)."""
+    def __len__(self) -> int: ...
 
 class Camera:
     """A camera for :func:`render`, in voxel units ``(x, y, z)``.
@@ -31,29 +63,57 @@ class Camera:
         """Looks along +z at a volume of ``shape`` ``(z, y, x[, 4])``: in an ``x × y`` image
         pixel ``(i, j)`` looks down voxel column ``(i, j)``."""
 
-def sample(volume: VolumeArray, positions: npt.NDArray[np.float32], mode: Mode = ...,
-           filter: FilterName = ..., step: float = 1.0,
-           reference_distance: float = 1.0) -> npt.NDArray[np.float32]:
+def sample(volume: AnyVolume, positions: npt.NDArray[np.float32], mode: Mode = ...,
+           filter: FilterName = ..., step: float = 1.0, reference_distance: float = 1.0,
+           tf: TransferFunction | None = None) -> npt.NDArray[np.float32]:
     """Samples ``volume`` ``(z, y, x, 4)`` at ``positions`` ``(n, 3)`` (x, y, z): returns
     ``(n, 4)`` associated ``(C̃r, C̃g, C̃b, α)`` of a segment of length ``step``.
 
     ``mode``: ``"opacity_weighted"`` (Wittenbrink) and ``"separate"`` read straight RGBA
     (uint8 or float32), ``"preweighted"`` associated RGBA, ``"extinction"`` float32
-    ``(C^τ, τ)`` (see :func:`to_extinction`). Opacity-based modes are corrected from
-    ``reference_distance`` to ``step``.
+    ``(C^τ, τ)`` (see :func:`to_extinction`), ``"extinction_u8"`` straight uint8 RGBA read as
+    extinction through a table of ``τ`` per opacity byte for ``reference_distance`` (bit for
+    bit ``"extinction"`` on ``to_extinction(volume, reference_distance)``, a quarter of the
+    memory), ``"post_classified"`` a scalar volume ``(z, y, x)`` (uint8, uint16 or float32)
+    interpolated, then classified by ``tf`` (``C̃ = α·C``; at ``step = reference_distance``
+    ``α`` and each ``C̃`` within ``3ε + L·taps·ε·s_max`` of the exact value, ``L`` the steepest
+    slope of ``tf``, ``s_max`` the largest scalar, ``ε = 2^−23``). Opacity-based modes (all but
+    the two extinction modes) are corrected from ``reference_distance`` to ``step``.
 
     >>> import numpy as np
     >>> vol = np.zeros((2, 2, 2, 4), np.uint8); vol[..., 3] = 255; vol[..., 0] = 255
     >>> sample(vol, np.array([[0.5, 0.5, 0.5]], np.float32)).tolist()
     [[1.0, 0.0, 0.0, 1.0]]
+    >>> ramp = TransferFunction([(0, 0, 0, 0, 0), (100, 1, 1, 1, 1)])
+    >>> scalars = np.array([[[0, 100]]], np.uint8)          # (z, y, x): s = 0 and 100
+    >>> sample(scalars, np.array([[0.5, 0, 0]], np.float32), mode="post_classified",
+    ...        tf=ramp).tolist()                              # s = 50: C = α = ½, C̃ = ¼
+    [[0.25, 0.25, 0.25, 0.5]]
+    >>> fog = np.full((2, 2, 2, 4), [200, 100, 50, 128], np.uint8)
+    >>> s = sample(fog, np.array([[0.5, 0.5, 0.5]], np.float32), mode="extinction_u8")
+    >>> round(float(s[0, 3]), 4)                              # one step d = d′: α = 128/255
+    0.502
     """
 
-def sample_int(volume: npt.NDArray[np.uint8], positions: npt.NDArray[np.float32],
-               mode: Literal["separate", "opacity_weighted", "preweighted"] = ...,
+def sample_int(volume: IntVolume, positions: npt.NDArray[np.float32], mode: IntModeName = ...,
                filter: Literal["nearest", "trilinear"] = ..., step: float = 1.0,
-               reference_distance: float = 1.0, frac_bits: int = 8) -> npt.NDArray[np.uint16]:
-    """The bit-exact integer kernels (firmware, HDL) at ``frac_bits`` ∈ 4..=12 fractional
-    position bits: ``(n, 4)`` U8.8 associated samples, ``65280`` = opacity 1."""
+               reference_distance: float = 1.0, frac_bits: int = 8,
+               table_nodes: Literal[17, 65, 257, 1025, 4097] = 257) -> npt.NDArray[np.uint16]:
+    """The bit-exact integer kernels (firmware, HDL; ``IntRayMarcher::sample``) at
+    ``frac_bits`` ∈ 4..=12 fractional position bits: ``(n, 4)`` U8.8 associated samples,
+    ``65280`` = opacity 1.
+
+    ``mode``: ``"separate"`` and ``"opacity_weighted"`` read straight uint8, ``"preweighted"``
+    associated uint8, ``"extinction"`` (``IntExtinction``) uint32 ``ExtinctionFx`` voxels
+    (:func:`to_extinction_fx`) with ``φ`` and ``e^(−x)`` tables of ``table_nodes`` nodes:
+    ``α`` within ``½ + 65280·h²/(8e) + 0.01`` LSB of ``1 − e^(−x)`` and ``C̃`` within ½ LSB
+    more, ``h = 1/(N − 1)`` (0.56 and 1.06 LSB at 257 nodes).
+
+    >>> import numpy as np
+    >>> cap = np.array([[[[64 << 20, 0, 32 << 20, 64 << 20]]]], np.uint32)  # D = 64, magenta
+    >>> sample_int(cap, np.zeros((1, 3), np.float32), mode="extinction").tolist()
+    [[65280, 0, 32640, 65280]]
+    """
 
 def correct_opacity(samples: npt.NDArray[np.float32], ratio: float) -> npt.NDArray[np.float32]:
     """Opacity correction of ``(n, 4)`` associated samples to ``ratio = d/d′``:
@@ -92,15 +152,66 @@ def downsample_level_u8(volume: npt.NDArray[np.uint8], a: float = 0.25) -> npt.N
     """One level of the bit-exact integer opacity-based downsampling of associated uint8
     voxels (``a`` quantized to Q0.16, round half up; every rounding named in the core)."""
 
-def render(volume: VolumeArray, camera: Camera, width: int, height: int, mode: Mode = ...,
+def render(volume: AnyVolume, camera: Camera, width: int, height: int, mode: Mode = ...,
            filter: FilterName = ..., step: float = 0.5, reference_distance: float = 1.0,
-           threads: int = 1) -> npt.NDArray[np.float32]:
+           threads: int = 1, tf: TransferFunction | None = None) -> npt.NDArray[np.float32]:
     """Renders ``(height, width, 4)`` associated pixels front to back (the library's fast path,
     ``RayMarcher::render_into``; ``threads`` bands of rows give the same image bit for bit).
+    Every mode of :func:`sample`; ``mode="post_classified"`` reads a scalar volume and ``tf``.
+    Raises ``MemoryError`` for an image that cannot be allocated.
 
     >>> import numpy as np
     >>> vol = np.zeros((4, 4, 4, 4), np.uint8); vol[1:3, 1:3, 1:3] = 255
     >>> img = render(vol, Camera.looking_down_z(vol.shape), 4, 4)
     >>> bool(img[1, 1, 3] > 0.99), float(img[0, 0, 3])
     (True, 0.0)
+    """
+
+def render_int(volume: IntVolume, camera: Camera, width: int, height: int,
+               mode: IntModeName = ..., filter: Literal["nearest", "trilinear"] = ...,
+               step: float = 0.5, reference_distance: float = 1.0, frac_bits: int = 8,
+               table_nodes: Literal[17, 65, 257, 1025, 4097] = 257, a_stop: int = 65280,
+               threads: int = 1) -> npt.NDArray[np.uint16]:
+    """Renders ``(height, width, 4)`` U8.8 associated pixels with the integer pipeline
+    (``IntRayMarcher::render_into``: positions quantized to ``frac_bits``, the integer kernel
+    of ``mode`` as in :func:`sample_int`, table-driven opacity correction, integer front-to-back
+    compositing, every rounding half up). A ray stops before a sample once its opacity reaches
+    ``a_stop`` (``65280``: only when opaque, the same as never). ``threads`` bands of rows give
+    the same image bit for bit. Per ray the compositing adds at most ``n/2`` (α) and ``n`` (C̃)
+    LSB over ``n`` samples.
+
+    >>> import numpy as np
+    >>> vol = np.zeros((4, 4, 4, 4), np.uint8); vol[1:3, 1:3, 1:3] = 255
+    >>> img = render_int(vol, Camera.looking_down_z(vol.shape), 4, 4)
+    >>> img[1, 1].tolist(), int(img[0, 0, 3])                 # opaque white core, clear air
+    ([65280, 65280, 65280, 65280], 0)
+    """
+
+def to_extinction_fx(volume: VolumeArray) -> npt.NDArray[np.uint32]:
+    """The fixed-point extinction voxels ``(D·C r, g, b, D)`` (``ExtinctionFx``, U7.20:
+    ``raw/2^20``) of a straight uint8 or float32 volume: ``D = ⌊2^20·min(−ln(1 − α), 64) + ½⌋``,
+    the optical depth of one reference distance, and ``D·C`` rounded half up (for uint8
+    ``⌊(2·D·C + 255)/510⌋``).
+
+    >>> import numpy as np
+    >>> to_extinction_fx(np.array([[[[255, 0, 0, 255], [0, 0, 0, 0]]]], np.uint8)).tolist()
+    [[[[67108864, 0, 0, 67108864], [0, 0, 0, 0]]]]
+    """
+
+def downsample_level_int(volume: npt.NDArray[np.uint8] | npt.NDArray[np.uint16]
+                         | npt.NDArray[np.uint32], method: Method,
+                         a: float = 0.25) -> npt.NDArray[np.uint8] | npt.NDArray[np.uint16] | npt.NDArray[np.uint32]:
+    """One level of the bit-exact integer downsampling (each axis ``n ↦ ⌈n/2⌉``, the
+    ``(a_q, b_q, b_q, a_q)`` filter with ``a_q = ⌊2^16·a + ½⌋/2^16``, clamp to edge), in the
+    input's dtype. ``method="opacity"``: associated uint8 or U8.8 uint16 voxels,
+    ``α′ = ᾱ(2 − ᾱ)``, ``C̃′ = C̄(2 − ᾱ)``, within ``½ + 2^−8`` LSB; ``method="extinction"``:
+    uint32 ``ExtinctionFx`` voxels, ``D′ = 2·D̄`` saturated at 64, within ½ LSB.
+
+    >>> import numpy as np
+    >>> v = np.full((4, 4, 4, 4), [40, 20, 0, 128], np.uint8)
+    >>> downsample_level_int(v, "opacity", a=0.2)[0, 0, 0].tolist()   # α: 1 − (1 − α)²
+    [60, 30, 0, 192]
+    >>> fx = np.full((2, 2, 2, 4), [1 << 20, 0, 0, 1 << 20], np.uint32)
+    >>> downsample_level_int(fx, "extinction")[0, 0, 0].tolist()    # D per coarse voxel: 2
+    [2097152, 0, 0, 2097152]
     """
