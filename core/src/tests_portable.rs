@@ -7,6 +7,7 @@
 //! On x86-64 the integer `OpacityWeighted` trilinear sample goes through the SSE2 kernel
 //! (`arch::sse2`), so its test here also runs that kernel's `unsafe` entry under Miri.
 
+use crate::arch::Isa;
 use crate::composite::{back_to_front, front_to_back, over};
 use crate::downsample::integer::{downsample_level_int, IntFilter4, IntOpacityBased};
 use crate::downsample::{
@@ -504,6 +505,17 @@ fn packets_are_single_rays_bit_for_bit() -> Result<(), Error> {
         assert_eq!(o, m.cast(r));
         assert!(o.is_valid());
     }
+    // Every instruction set this machine has (under Miri: AVX2 where the run enables it)
+    // gives the baseline's results.
+    let base = m.with_isa(Isa::BASELINE);
+    for isa in Isa::available() {
+        let mut got = [Sample::TRANSPARENT; 5];
+        m.with_isa(isa).cast_rays(&rays, &mut got)?;
+        for (r, g) in rays.iter().zip(got) {
+            assert_eq!(g, base.cast(r), "{isa}");
+            assert_eq!(m.with_isa(isa).cast(r), g, "{isa}");
+        }
+    }
     let four = [rays[0], rays[1], rays[2], rays[3]];
     for (r, got) in four.iter().zip(m.cast4(&four)) {
         assert_eq!(got, m.cast_counted(r));
@@ -752,9 +764,19 @@ fn integer_marcher_is_within_its_bound_of_the_exact_composite() -> Result<(), Er
     for (g, w) in s.c().iter().zip(c) {
         assert!((lsb(*g) - w).abs() <= 4.0 * 1.5 * step, "{g} vs {w}");
     }
-    let mut out = [IntSample::TRANSPARENT; 3];
-    m.cast_rays(&[ray; 3], &mut out)?;
-    assert_eq!(out, [s; 3]);
+    // Nine parallel rays across the column (x and y clamp to its one voxel, so each ray
+    // composites the same four voxels): one packet of eight in AVX2 lanes where the
+    // instruction set is available, and a tail; every instruction set gives `s`.
+    let mut rays = [ray; 9];
+    for (k, r) in rays.iter_mut().enumerate() {
+        let off = k as f32 * 0.1 - 0.4;
+        *r = Ray::new([off, -off, -1.0], [0.0, 0.0, 1.0])?;
+    }
+    for isa in Isa::available() {
+        let mut out = [IntSample::TRANSPARENT; 9];
+        m.clone().with_isa(isa).cast_rays(&rays, &mut out)?;
+        assert_eq!(out, [s; 9], "{isa}");
+    }
     Ok(())
 }
 
