@@ -90,6 +90,10 @@ pub mod volume;
 #[forbid(unsafe_code)]
 pub mod voxel;
 
+#[cfg(test)]
+#[forbid(unsafe_code)]
+mod tests_portable;
+
 pub use arch::Isa;
 pub use composite::{BackToFront, FrontToBack, Never, Threshold};
 pub use fixed_point::{IntSample, IntStop};

@@ -123,6 +123,10 @@ mod tests {
     use super::*;
 
     #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "exhaustive (2^25 quotients): too slow for Miri; runs natively and under ASan"
+    )]
     fn div255_magic_is_exact_for_every_quotient_the_kernel_forms() {
         // q = (512·S + 255·2^24) >> 25 < 2^25 for S < 2^40 (F = 8; smaller F, smaller q).
         // The constants pass through `black_box`, so the compiler cannot turn `q / 255` into

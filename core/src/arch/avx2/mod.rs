@@ -125,6 +125,13 @@ impl Avx2 {
     /// the AVX registers (XCR0 bits 1 and 2, read with XGETBV where CPUID says the OS enabled
     /// it, OSXSAVE).
     pub(crate) fn detect() -> Option<Self> {
+        // Miri cannot run CPUID (inline assembly) or XGETBV: there the answer is the target
+        // features the crate is compiled with, as `std::is_x86_feature_detected!` answers
+        // under Miri (so "no AVX2" unless the run enables `avx2` and `fma`).
+        if cfg!(miri) {
+            return (cfg!(target_feature = "avx2") && cfg!(target_feature = "fma"))
+                .then_some(Avx2(()));
+        }
         // Leaf 1, ECX: bit 12 FMA, bit 27 OSXSAVE, bit 28 AVX; leaf 7 sub-leaf 0, EBX: bit 5
         // AVX2 (Intel SDM vol. 2A, CPUID; AMD APM vol. 3, appendix E).
         if __cpuid(0).eax < 7 {

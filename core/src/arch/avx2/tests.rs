@@ -21,6 +21,10 @@ fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
 /// unsigned numbers), and both loads read the voxels' words; an index outside reads the
 /// transparent voxel.
 #[test]
+#[cfg_attr(
+    all(miri, not(all(target_feature = "avx2", target_feature = "fma"))),
+    ignore = "Miri: no AVX2 (Avx2::detect answers the compiled target features there)"
+)]
 fn taps_are_loaded_unchecked_only_when_all_indices_are_inside() {
     let Some(_cpu) = Avx2::detect() else {
         return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
@@ -66,6 +70,10 @@ fn taps_check() {
 /// inside, in `StraightU8` data; `load_pair` reads what `load` reads, with `pairs` or
 /// without (its fallback), for even and odd `k`.
 #[test]
+#[cfg_attr(
+    all(miri, not(all(target_feature = "avx2", target_feature = "fma"))),
+    ignore = "Miri: no AVX2 (Avx2::detect answers the compiled target features there)"
+)]
 fn pairs_are_read_only_side_by_side() {
     let Some(_cpu) = Avx2::detect() else {
         return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
@@ -125,6 +133,10 @@ fn pairs_check() {
 /// at or above 1, NaN, infinite or negative `τ` (the per-lane path); colors `C^τ ≤ τ`
 /// mostly, so that `φ` shows (the clamp of `C̃` into `[0, α]` would hide it).
 #[test]
+#[cfg_attr(
+    all(miri, not(all(target_feature = "avx2", target_feature = "fma"))),
+    ignore = "Miri: no AVX2 (Avx2::detect answers the compiled target features there)"
+)]
 fn extinction_step_is_integrate_step_per_lane() {
     let Some(_cpu) = Avx2::detect() else {
         return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
@@ -137,7 +149,8 @@ fn extinction_step_is_integrate_step_per_lane() {
 fn extinction_check() {
     let mut next = xorshift(0x9E37_79B9_7F4A_7C15);
     let mut unit = || (next() >> 40) as f32 / (1u64 << 24) as f32;
-    for case in 0..20_000 {
+    // Under Miri (an interpreter) every 73rd case: 274 cases, of every kind below.
+    for case in (0..20_000).step_by(if cfg!(miri) { 73 } else { 1 }) {
         let d = match case % 4 {
             0 => 0.5,
             1 => 1.0,
@@ -302,6 +315,10 @@ fn correction_check() {
 
 /// `div65280` is `⌊n/65280⌋` for every `u32` `n`, in every lane.
 #[test]
+#[cfg_attr(
+    miri,
+    ignore = "exhaustive (every u32): too slow for Miri; runs natively and under ASan"
+)]
 fn div65280_is_the_floor_of_the_quotient_for_every_u32() {
     let Some(_cpu) = Avx2::detect() else {
         return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
@@ -325,6 +342,10 @@ fn div65280_check() {
 /// `⌊(q + 1)·RECIP255/2^32⌋ = ⌊q/255⌋` for every `q < 2^24` (the quotient `int_sums`
 /// forms; `black_box` keeps the compiler from folding the comparison).
 #[test]
+#[cfg_attr(
+    miri,
+    ignore = "exhaustive (2^24 quotients): too slow for Miri; runs natively and under ASan"
+)]
 fn quotient_by_255_is_exact_below_2_24() {
     let m = u64::from(core::hint::black_box(RECIP255));
     for q in 0u64..1 << 24 {
@@ -335,6 +356,10 @@ fn quotient_by_255_is_exact_below_2_24() {
 /// `quantize8` is `⌊256·p + ½⌋` for every `f32` `p` in `[0, 2^14)` (`IntPos::quantize`'s
 /// `⌊x·2^8 + ½⌋`, which it computes in `f64`), in every lane.
 #[test]
+#[cfg_attr(
+    miri,
+    ignore = "exhaustive (every f32 below 2^14): too slow for Miri; runs natively and under ASan"
+)]
 fn quantization_rounds_half_up_for_every_f32_below_2_14() {
     let Some(_cpu) = Avx2::detect() else {
         return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
@@ -360,6 +385,10 @@ fn quantize8_check() {
 /// (0, 1, 127, 128, 254, 255 on each axis), and random taps and fractions; with the taps
 /// packed into pairs along x and along y ([`int_pair`]).
 #[test]
+#[cfg_attr(
+    all(miri, not(all(target_feature = "avx2", target_feature = "fma"))),
+    ignore = "Miri: no AVX2 (Avx2::detect answers the compiled target features there)"
+)]
 fn integer_sums_are_the_portable_kernel() {
     let Some(_cpu) = Avx2::detect() else {
         return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
@@ -373,7 +402,8 @@ fn int_sums_check() {
     use crate::fixed_point::{IntMode, IntWeights};
     let mut next = xorshift(0x2545_F491_4F6C_DD1D);
     let edges = [0u32, 1, 127, 128, 254, 255];
-    for case in 0..6000 {
+    // Under Miri (an interpreter) every 47th case: 128 cases, edge fractions and random.
+    for case in (0..6000).step_by(if cfg!(miri) { 47 } else { 1 }) {
         // Eight lanes of taps (tap `k` of lane `l`) and fractions.
         let taps: [[StraightU8; 8]; LANES] = core::array::from_fn(|_| {
             core::array::from_fn(|_| {
@@ -441,6 +471,10 @@ fn int_sums_check() {
 
 /// `unorm8` of every byte, in each lane, is the table's correctly rounded `n/255`.
 #[test]
+#[cfg_attr(
+    all(miri, not(all(target_feature = "avx2", target_feature = "fma"))),
+    ignore = "Miri: no AVX2 (Avx2::detect answers the compiled target features there)"
+)]
 fn byte_conversion_is_the_correctly_rounded_quotient() {
     let Some(_cpu) = Avx2::detect() else {
         return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
