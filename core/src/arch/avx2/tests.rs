@@ -287,10 +287,9 @@ fn correction_check() {
             c: color.map(|c| F32x8(lanes(c))),
             a: F32x8(lanes(alpha)),
         };
-        let Some(corr) = Corrected::new(r) else {
-            panic!("ratio {r}");
-        };
-        let o = corr.apply_in(i);
+        let corr = Corrected::new(r);
+        assert!(corr.is_some(), "ratio {r}");
+        let o = corr.map_or(i, |c| c.apply_in(i));
         let (c, a) = (o.c.map(|c| array(c.0)), array(o.a.0));
         let same = |g: f32, w: f32| g == w || g.to_bits() == w.to_bits();
         for l in 0..LANES {
