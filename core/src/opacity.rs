@@ -179,16 +179,18 @@ pub fn correct(s: Sample, ratio: f32) -> Sample {
 /// [`correct`] of one sample's quantities.
 #[inline]
 fn correct_one(i: Interp<f32>, ratio: f32) -> Interp<f32> {
-    let (x, series) = correct_series_in(i, ratio);
     let a = i.a;
-    if a < PSI_SERIES_BELOW && x < PHI_POLY_BELOW {
-        return series;
-    }
     if a >= 1.0 {
-        return clamped(Interp { c: i.c, a: 1.0 });
+        return dense(i);
     }
     if a <= 0.0 {
         return Sample::TRANSPARENT.into();
+    }
+    if a < PSI_SERIES_BELOW {
+        let (x, series) = correct_series_in(i, ratio);
+        if x < PHI_POLY_BELOW {
+            return series;
+        }
     }
     let x = -ratio * libm::log1pf(-a);
     let a_d = clamp01(-libm::expm1f(-x));
@@ -208,15 +210,43 @@ fn correct_one(i: Interp<f32>, ratio: f32) -> Interp<f32> {
     })
 }
 
-/// [`correct`] in any [`Lanes`], bit-identical to it lane by lane: the series form where
-/// every lane has `α < 1/2` and `x < 1`, otherwise each lane by [`correct`] (out of line).
+/// [`correct`] of an opaque sample (`α ≥ 1`): `α_d = 1`, `C̃` as it is (clamped).
+#[inline(always)]
+fn dense<T: Lanes>(i: Interp<T>) -> Interp<T> {
+    clamped(Interp { c: i.c, a: T::ONE })
+}
+
+/// [`correct`] in any [`Lanes`], bit-identical to it lane by lane (a zero's sign aside, as
+/// [`Lanes::clamp_to`] says): where every lane is either in the series form (`α < 1/2` and
+/// `x < 1`; for `α ≤ 0` it gives the transparent sample) or opaque (finite `α ≥ 1`), each
+/// lane's form, selected; otherwise each lane by [`correct`] (out of line).
 #[inline(always)]
 pub(crate) fn correct_in<T: Lanes>(i: Interp<T>, ratio: f32) -> Interp<T> {
     let (x, series) = correct_series_in(i, ratio);
-    if T::all(i.a.lt(T::from_f32(PSI_SERIES_BELOW))) && T::all(x.lt(T::from_f32(PHI_POLY_BELOW))) {
-        series
+    let (a, one) = (i.a, T::ONE);
+    let thin = a.lt(T::from_f32(PSI_SERIES_BELOW));
+    // Below 1 in the lanes that take a form: `x` where thin, 0 where opaque and finite (`α·0`;
+    // NaN for an infinite or NaN `α`), 2 in between.
+    let test = T::select(thin, x, T::select(a.lt(one), one + one, a * T::ZERO));
+    if T::all(test.lt(T::from_f32(PHI_POLY_BELOW))) {
+        select(thin, series, dense(i))
     } else {
         correct_per_lane(i, ratio)
+    }
+}
+
+/// Lane `l` of `a` where `m[l]`, else lane `l` of `b`, in every quantity.
+#[inline(always)]
+fn select<T: Lanes>(m: T::Mask, a: Interp<T>, b: Interp<T>) -> Interp<T> {
+    let [a0, a1, a2] = a.c;
+    let [b0, b1, b2] = b.c;
+    Interp {
+        c: [
+            T::select(m, a0, b0),
+            T::select(m, a1, b1),
+            T::select(m, a2, b2),
+        ],
+        a: T::select(m, a.a, b.a),
     }
 }
 

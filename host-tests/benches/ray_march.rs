@@ -12,7 +12,9 @@
 //! mod 61)`; the ray of pixel `(i, j)` starts at `(n/16 + i + ¼, n/4 + j + ¼, −1)` along
 //! `(0.12, 0.08, 1)` (normalised), for an `n/2 × n/2` grid of pixels. The opacities are
 //! defined for the step (`d′ = d = 0.5`), so no opacity-correction stage runs: this measures
-//! reconstruction plus compositing, the work the target names.
+//! reconstruction plus compositing, the work the target names. Two rows vary it:
+//! `ow_f32_u8_256_corrected_packets` (opacities for `d′ = 2d`, so every sample is corrected)
+//! and `ow_f32_f32_256_packets` (the same voxels as 16-byte `StraightF32`).
 //!
 //! Empty space: the same volume cut to a ball in air, marched with and without empty-space
 //! skipping (`volsample::skip`), and the grid's lookup cost where nothing is empty.
@@ -372,6 +374,48 @@ fn bench(c: &mut Criterion) {
     let mut out = vec![Sample::TRANSPARENT; rays256.len()];
     g.bench_function("ow_f32_u8_256_packets", |b| {
         b.iter(|| black_box(packets(&ow, &rays256, &mut out)))
+    });
+
+    // With opacity correction: the voxels' opacities hold for `d′ = 2d` (the step is half the
+    // unit distance, as the report's scenes and the CLI's default have it).
+    let vol_d2 = vol.with_reference_distance(2.0 * D).unwrap();
+    let ow_corrected = RayMarcher::new(
+        vol_d2,
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap()
+    .with_isa(isa());
+    assert!(ow_corrected.correction().is_some());
+    g.bench_function("ow_f32_u8_256_corrected_packets", |b| {
+        b.iter(|| black_box(packets(&ow_corrected, &rays256, &mut out)))
+    });
+
+    // The same voxels as 16-byte `StraightF32` (`n/255`), uncorrected.
+    let v256f: Vec<StraightF32> = v256
+        .iter()
+        .map(|v| {
+            let [r, g, b, a] = v.0.map(volsample::voxel::unorm8);
+            StraightF32 { c: [r, g, b], a }
+        })
+        .collect();
+    let volf = Volume::new(&v256f, [256; 3])
+        .unwrap()
+        .with_reference_distance(D)
+        .unwrap();
+    let ow_f = RayMarcher::new(
+        volf,
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap()
+    .with_isa(isa());
+    g.bench_function("ow_f32_f32_256_packets", |b| {
+        b.iter(|| black_box(packets(&ow_f, &rays256, &mut out)))
     });
 
     // The yardsticks (not volsample): the same samples by a hand-tuned and a naive loop.
