@@ -222,8 +222,19 @@ fn dense<T: Lanes>(i: Interp<T>) -> Interp<T> {
 /// lane's form, selected; otherwise each lane by [`correct`] (out of line).
 #[inline(always)]
 pub(crate) fn correct_in<T: Lanes>(i: Interp<T>, ratio: f32) -> Interp<T> {
-    let (x, series) = correct_series_in(i, ratio);
     let (a, one) = (i.a, T::ONE);
+    // Whole packets of empty (`α ≤ 0`: below the least subnormal) or opaque (`α ≥ 1`: above
+    // the `f32` below 1) samples, as `correct` takes them, before any series.
+    if T::all(a.lt(T::from_f32(f32::from_bits(1)))) {
+        return Interp {
+            c: [T::ZERO; 3],
+            a: T::ZERO,
+        };
+    }
+    if T::all(T::from_f32(f32::from_bits(1.0f32.to_bits() - 1)).lt(a)) {
+        return dense(i);
+    }
+    let (x, series) = correct_series_in(i, ratio);
     let thin = a.lt(T::from_f32(PSI_SERIES_BELOW));
     // Below 1 in the lanes that take a form: `x` where thin, 0 where opaque and finite (`α·0`;
     // NaN for an infinite or NaN `α`), 2 in between.

@@ -229,8 +229,8 @@ fn extinction_check() {
 /// Opacity correction in the eight lanes (`Corrected::apply_in`, the kernel's) is
 /// `opacity::correct` lane by lane, bit for bit (a zero's sign aside): packets whose lanes all
 /// lie in the series form (`α < 1/2`, `x < 1`), packets with one lane outside it (`α` at or
-/// above 1/2, at 1, 0, subnormal, negative, NaN: the per-lane path), at ratios on both sides
-/// of where `x` reaches 1.
+/// above 1/2, at 1, 0, subnormal, negative, NaN: the per-lane path), whole packets of `α = 0`
+/// and of `α = 1`, at ratios on both sides of where `x` reaches 1.
 #[test]
 fn correction_is_correct_per_lane() {
     let Some(_cpu) = Avx2::detect() else {
@@ -250,9 +250,17 @@ fn correction_check() {
     for case in 0..20_000usize {
         let r = ratios.get(case % ratios.len()).copied().unwrap_or(0.5);
         let odd = case % 3 == 0;
+        // Whole packets of empty and of opaque samples (the early outs), beside mixed ones.
+        let whole = match case % 13 {
+            0 => Some(0.0),
+            1 => Some(1.0),
+            _ => None,
+        };
         let alpha: [f32; LANES] = core::array::from_fn(|l| {
             let u = unit();
-            if odd && l == case % LANES {
+            if let Some(w) = whole {
+                w
+            } else if odd && l == case % LANES {
                 match case % 8 {
                     0 => 0.5 + 0.5 * u,
                     1 => 1.0,
