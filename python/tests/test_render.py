@@ -1,12 +1,10 @@
 """Rendering with a camera through the library's fast path."""
 
-import threading
-import time
 
 import numpy as np
 
 import volsample
-from conftest import random_straight_u8
+from conftest import gil_free_ticks, random_straight_u8
 from tolerance import CORRECTION_ABS
 
 
@@ -56,24 +54,9 @@ def test_the_gil_is_released(rng):
     # A second Python thread keeps running while a render is in the kernel.
     vol = random_straight_u8(rng, (32, 32, 32))
     cam = volsample.Camera.looking_down_z(vol.shape)
-    ticks = []
-    done = threading.Event()
-
-    def ticker():
-        while not done.is_set():
-            ticks.append(time.perf_counter())
-            time.sleep(0.001)
-
-    t = threading.Thread(target=ticker)
-    t.start()
-    t0 = time.perf_counter()
-    volsample.render(vol, cam, 128, 128, step=0.05)
-    t1 = time.perf_counter()
-    done.set()
-    t.join()
-    during = [x for x in ticks if t0 < x < t1]
-    assert t1 - t0 > 0.05, "render too short to tell"
-    assert len(during) >= 5, (len(during), t1 - t0)
+    took, ticks = gil_free_ticks(lambda: volsample.render(vol, cam, 128, 128, step=0.05))
+    assert took > 0.05, "render too short to tell"
+    assert ticks >= 5, (ticks, took)
 
 
 def test_correct_opacity_formula(rng):
