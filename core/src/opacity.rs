@@ -9,8 +9,9 @@
 //!   as `C̃_d = (C̃/α)·α_d`, which stays finite when `x` overflows (`d′ → 0`). Below
 //!   `α = 1/2` and `x = 1` (thin samples, most of a volume's), `ψ` and `φ` come from series
 //!   instead of `log1pf` and `expm1f`, so that the kernels' lanes compute it too.
-//! * [`Correction`]: the stage chosen by type; [`Uncorrected`] is the identity and costs
-//!   nothing when `d = d′`.
+//! * [`Correction`]: the stage; [`Uncorrected`] is the identity and costs nothing when
+//!   `d = d′`; `Option<Corrected>` (the marchers') chooses per value, so that one march
+//!   serves both.
 
 use crate::lanes::Lanes;
 use crate::num::Num;
@@ -272,6 +273,7 @@ mod sealed {
     pub trait Sealed {}
     impl Sealed for super::Uncorrected {}
     impl Sealed for super::Corrected {}
+    impl Sealed for Option<super::Corrected> {}
 }
 
 /// The opacity-correction stage of a pipeline, chosen by type.
@@ -334,5 +336,27 @@ impl Correction for Corrected {
     #[inline(always)]
     fn apply_in<T: Lanes>(&self, s: Interp<T>) -> Interp<T> {
         correct_in(s, self.ratio)
+    }
+}
+
+/// The correction a marcher chose at construction: [`Corrected`], or none (`d = d′`). One
+/// march serves both, branching per sample (or lane packet) on a value that does not change
+/// along the ray, instead of one march per stage: a firmware image that never corrects still
+/// links a single march.
+impl Correction for Option<Corrected> {
+    #[inline(always)]
+    fn apply(&self, s: Sample) -> Sample {
+        match self {
+            Some(c) => c.apply(s),
+            None => s,
+        }
+    }
+
+    #[inline(always)]
+    fn apply_in<T: Lanes>(&self, s: Interp<T>) -> Interp<T> {
+        match self {
+            Some(c) => c.apply_in(s),
+            None => s,
+        }
     }
 }

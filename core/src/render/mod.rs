@@ -10,10 +10,11 @@
 //! anchored at the ray origin, so an orthographic camera samples on planes. Each sample
 //! stands for a segment of length `d`.
 //!
-//! Stages a scene does not need are not in its inner loop: opacity correction is chosen by
-//! type ([`Uncorrected`] when `d = d′` or the mode is extinction-based), early termination is
-//! [`Never`](crate::composite::Never) unless a threshold is set, and the background is
-//! applied once per ray.
+//! Stages a scene does not need cost it next to nothing: opacity correction is
+//! [`Uncorrected`] by type for the extinction-based modes, and for the opacity-based ones
+//! chosen once per marcher (none when `d = d′`: one predictable branch per sample or lane
+//! packet, so that one march serves both and a firmware image links one), early termination is [`Never`](crate::composite::Never) unless a threshold is set, and the
+//! background is applied once per ray.
 
 use core::marker::PhantomData;
 
@@ -259,9 +260,10 @@ where
     /// color and opacity of a segment of length `d`.
     #[inline]
     pub fn sample(&self, pos: [f32; 3]) -> Sample {
-        match self.correction {
-            Some(c) => self.sample_with(pos, &c),
-            None => self.sample_with(pos, &Uncorrected),
+        if M::OPACITY_BASED {
+            self.sample_with(pos, &self.correction)
+        } else {
+            self.sample_with(pos, &Uncorrected)
         }
     }
 
@@ -300,9 +302,10 @@ where
     /// [`cast_counted`](Self::cast_counted) in the instruction set of the caller.
     #[inline(always)]
     fn cast_counted_here(&self, ray: &Ray) -> (Sample, u32) {
-        let (acc, n) = match &self.correction {
-            Some(c) => self.march(ray, c),
-            None => self.march(ray, &Uncorrected),
+        let (acc, n) = if M::OPACITY_BASED {
+            self.march(ray, &self.correction)
+        } else {
+            self.march(ray, &Uncorrected)
         };
         (over(acc, self.background), n)
     }
@@ -439,9 +442,10 @@ where
         if !O::FRONT_TO_BACK || !F::PACKETS {
             return rays.each_ref().map(|r| self.cast_counted_here(r));
         }
-        let (acc, n) = match &self.correction {
-            Some(c) => self.march4(rays, c),
-            None => self.march4(rays, &Uncorrected),
+        let (acc, n) = if M::OPACITY_BASED {
+            self.march4(rays, &self.correction)
+        } else {
+            self.march4(rays, &Uncorrected)
         };
         let mut out = [(Sample::TRANSPARENT, 0); 4];
         for ((o, a), k) in out.iter_mut().zip(acc).zip(n) {
