@@ -25,7 +25,7 @@ use crate::tolerance::integer as tol;
 /// The fuzz targets, by name (`fuzz/fuzz_targets/<name>.rs`, corpus in `fuzz/corpus/<name>/`);
 /// the kernel-family ones ([`kernel_checks::TARGETS`](crate::kernel_checks::TARGETS)) are run
 /// by [`kernel_checks::run`](crate::kernel_checks::run).
-pub const TARGETS: [&str; 9] = [
+pub const TARGETS: [&str; 10] = [
     "premul_storage",
     "int_vs_float",
     "composite",
@@ -35,6 +35,7 @@ pub const TARGETS: [&str; 9] = [
     "downsample",
     "filters",
     "classify",
+    "vectors",
 ];
 
 /// Decodes `data` as the fuzz target `target` does and runs its check.

@@ -19,6 +19,9 @@
 //! - `filters`: the float nearest and triquadratic B-spline filters, every float mode, at
 //!   random positions (one voxel past every face and beyond), against the f64 reference
 //!   (`float_checks`, within `tolerance::sample_bound`, as `tests/float_vs_reference.rs`).
+//! - `vectors` (with the feature `loaders`, which the fuzz crate builds): any request of
+//!   `volsample vectors`, written to files and read back by the code's layouts and by the
+//!   manifest's field tables, each decoded case run through the kernel again.
 //! - `classify`: the pre-passes (`classify_isosurface`, `shade_in_place`,
 //!   `classify_transfer`) on fields of any finite `f32` scalars, against the f64 reference
 //!   (`reference::levoy_opacities`, `central_gradient`, `RefTransferFunction::eval`) within
@@ -34,16 +37,26 @@ mod downsample;
 mod filters;
 #[cfg(feature = "marcher-checks")]
 mod int_marcher;
+#[cfg(feature = "loaders")]
+mod vectors;
 
 pub use classify::{classify, ClassifyInput};
 pub use downsample::{downsample, DownsampleInput};
 pub use filters::{filters, FilterInput};
 #[cfg(feature = "marcher-checks")]
 pub use int_marcher::{int_marcher, MarchMode, MarcherInput, RayInput};
+#[cfg(feature = "loaders")]
+pub use vectors::{vectors, VectorsInput, MAX_FUZZ_COUNT};
 
 /// The kernel-family fuzz targets, by name (`fuzz/fuzz_targets/<name>.rs`, corpus in
 /// `fuzz/corpus/<name>/`); [`checks::TARGETS`](crate::checks::TARGETS) lists them too.
-pub const TARGETS: [&str; 4] = ["int_marcher", "downsample", "filters", "classify"];
+pub const TARGETS: [&str; 5] = [
+    "int_marcher",
+    "downsample",
+    "filters",
+    "classify",
+    "vectors",
+];
 
 /// Decodes `data` as the fuzz target `target` does and runs its check.
 ///
@@ -58,6 +71,10 @@ pub fn run(target: &str, data: &[u8]) -> Result<(), String> {
         "downsample" => downsample(&decode(data)).map(|_| ()),
         "filters" => filters(&decode(data)).map(|_| ()),
         "classify" => classify(&decode(data)).map(|_| ()),
+        #[cfg(feature = "loaders")]
+        "vectors" => vectors(&decode(data)),
+        #[cfg(not(feature = "loaders"))]
+        "vectors" => Err("vectors: built without the feature loaders".into()),
         _ => Err(format!("unknown kernel fuzz target {target}")),
     }
 }

@@ -4,7 +4,8 @@
 //! Without the default feature `app` only the models remain (`reference`, `int_model`,
 //! `tolerance`, `float_checks`, `checks`, `kernel_checks`), with no dependency beyond the
 //! core, `arbitrary` and std: the fuzz targets build it so. The feature `loaders` (part of
-//! `app`) adds the scenes, the file loaders and `parser_checks`, for the parser fuzz targets;
+//! `app`) adds the scenes, the file loaders, `parser_checks` and `vectors`, for the parser and
+//! `vectors` fuzz targets;
 //! `marcher-checks` the marcher checks (`marcher_checks`, the `int_marcher` check); `testing`
 //! (the tests and benches, never the CLI) those and the proptest strategies and edge cases.
 
@@ -44,7 +45,7 @@ pub mod strategies;
 #[cfg(feature = "app")]
 pub mod texture_unit;
 pub mod tolerance;
-#[cfg(feature = "app")]
+#[cfg(feature = "loaders")]
 pub mod vectors;
 #[cfg(feature = "app")]
 pub mod view;

@@ -669,6 +669,15 @@ pub fn output_layout(spec: &Spec) -> Layout {
     }
 }
 
+/// The value of each input field of a case (two's complement fields as their bits), in the
+/// order of [`input_layout`]'s fields.
+///
+/// # Errors
+/// [`VectorError::InvalidCase`] for a case no layout can hold.
+pub fn case_values(case: &Case) -> Result<Vec<u64>, VectorError> {
+    input_values(case)
+}
+
 /// The value of each input field of a case (two's complement fields as their bits).
 fn input_values(case: &Case) -> Result<Vec<u64>, VectorError> {
     Ok(match case {
