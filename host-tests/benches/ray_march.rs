@@ -14,7 +14,10 @@
 //! defined for the step (`d′ = d = 0.5`), so no opacity-correction stage runs: this measures
 //! reconstruction plus compositing, the work the target names. Two rows vary it:
 //! `ow_f32_u8_256_corrected_packets` (opacities for `d′ = 2d`, so every sample is corrected)
-//! and `ow_f32_f32_256_packets` (the same voxels as 16-byte `StraightF32`).
+//! and `ow_f32_f32_256_packets` (the same voxels as 16-byte `StraightF32`). These rays lie one
+//! voxel apart and start on one plane, so the eight lanes of a packet cross cells together (a
+//! best case); `ow_f32_u8_256_camera_render_into` renders an orthographic camera's view of the
+//! whole volume (256², rays 1.15 voxels apart, anchored on the image plane), as users do.
 //!
 //! Empty space: the same volume cut to a ball in air, marched with and without empty-space
 //! skipping (`volsample::skip`), and the grid's lookup cost where nothing is empty.
@@ -57,8 +60,8 @@ use volsample::skip::{Occupancy, Skipping};
 use volsample::voxel::Voxel;
 use volsample::{
     Camera, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack, Mode, OpacityWeighted,
-    Perspective, Ray, RayMarcher, Sample, Separate, Step, StraightF32, StraightU8, Trilinear,
-    Volume,
+    Orthographic, Perspective, Ray, RayMarcher, Sample, Separate, Step, StraightF32, StraightU8,
+    Trilinear, Volume,
 };
 use volsample_host::yardstick;
 
@@ -417,6 +420,29 @@ fn bench(c: &mut Criterion) {
     g.bench_function("ow_f32_f32_256_packets", |b| {
         b.iter(|| black_box(packets(&ow_f, &rays256, &mut out)))
     });
+
+    // What a camera gives: `render_into` of an orthographic view of the whole volume along the
+    // rays' direction, 256² pixels 1.15 voxels apart, each ray's samples anchored at its
+    // origin on the image plane. The rows above march rays exactly one voxel apart from one
+    // plane (z = −1), so the eight lanes of a packet cross cells together: a best case.
+    let cam = {
+        let dir = [0.12f32, 0.08, 1.0];
+        let len = dir.iter().map(|d| d * d).sum::<f32>().sqrt();
+        let eye = dir.map(|d| 127.5 - d / len * 512.0);
+        Orthographic::new(eye, dir, [0.0, -1.0, 0.0], 256.0 * 1.15).unwrap()
+    };
+    let n_cam: u64 = (0..256 * 256)
+        .map(|k| u64::from(ow.sample_range(&cam.ray(k % 256, k / 256, 256, 256)).1))
+        .sum();
+    let mut cam_out = vec![Sample::TRANSPARENT; 256 * 256];
+    g.throughput(Throughput::Elements(n_cam));
+    g.bench_function("ow_f32_u8_256_camera_render_into", |b| {
+        b.iter(|| {
+            ow.render_into(&cam, 256, 256, &mut cam_out).unwrap();
+            black_box(cam_out.iter().map(|&p| all_channels(p)).sum::<f32>())
+        })
+    });
+    g.throughput(Throughput::Elements(n256));
 
     // The yardsticks (not volsample): the same samples by a hand-tuned and a naive loop.
     let ranges: Vec<(f32, u32)> = rays256.iter().map(|r| ow.sample_range(r)).collect();
