@@ -3,7 +3,8 @@
 # (vtkFixedPointVolumeRayCastMapper, from the `vtk` wheel on PyPI, offscreen) against
 # volsample's opacity-weighted trilinear renderer, same volume, transfer function, view,
 # 512 x 512 image and step 0.5 voxel, with 1 and 2 threads. Prints the median wall time of a
-# frame per renderer and thread count, and how much the two images differ.
+# frame per renderer and thread count, and how much the two images differ. Then the orientation
+# check of vtk_orient.py (ORIENT=0 skips it).
 #
 # Not part of .ci/run: it takes a minute or two and its timings are noisy on a shared machine.
 #   host-tests/peers/vtk_ct.sh
@@ -111,3 +112,10 @@ for t in $THREADS; do
 done
 lscpu | sed -n 's/^Model name: *//p'
 echo "images: $OUT"
+
+# --- Orientation: an asymmetric object stored as RAS, LPS and with permuted axes, rendered by
+# volsample and by VTK given each file's index-to-RAS matrix (vtk_orient.py); ORIENT=0 skips. ---
+if [ "${ORIENT:-1}" != 0 ]; then
+  echo
+  "${WRAP[@]}" "$PY" "$HERE/vtk_orient.py" "$BIN" "$OUT/orient" 2>&1 | grep -v 'bad X server connection'
+fi
