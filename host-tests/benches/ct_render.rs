@@ -66,5 +66,11 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+// No plots: criterion's plotters backend panics where no font is installed (as on CI's
+// Debian image), after the first measurement.
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = bench
+}
 criterion_main!(benches);
