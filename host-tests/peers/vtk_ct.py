@@ -155,6 +155,42 @@ def compare(ours_path, vtk_path):
             f"{100.0 * (lum > 32).mean():.2f} %")
 
 
+def ray_cast_mapper(img, step):
+    """vtkFixedPointVolumeRayCastMapper on `img`: composite blend, sample distance `step` (no
+    automatic adjustment), one ray per pixel."""
+    mapper = vtk.vtkFixedPointVolumeRayCastMapper()
+    mapper.SetInputData(img)
+    mapper.SetBlendModeToComposite()
+    mapper.AutoAdjustSampleDistancesOff()
+    mapper.LockSampleDistanceToInputSpacingOff()
+    mapper.SetSampleDistance(step)
+    mapper.SetImageSampleDistance(1.0)
+    return mapper
+
+
+def offscreen_window(ren, size):
+    """An offscreen `size` x `size` window showing `ren`, no multisampling."""
+    win = vtk.vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(size, size)
+    win.SetMultiSamples(0)
+    win.AddRenderer(ren)
+    return win
+
+
+def write_png(win, png):
+    """The window's last frame as an RGB PNG."""
+    grab = vtk.vtkWindowToImageFilter()
+    grab.SetInput(win)
+    grab.SetInputBufferTypeToRGB()
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    w = vtk.vtkPNGWriter()
+    w.SetFileName(png)
+    w.SetInputConnection(grab.GetOutputPort())
+    w.Write()
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("nrrd")
@@ -171,13 +207,7 @@ def main():
     img = image_data(vox, sizes, spacings)
     prop = volume_property(read_tf(args.tf))
 
-    mapper = vtk.vtkFixedPointVolumeRayCastMapper()
-    mapper.SetInputData(img)
-    mapper.SetBlendModeToComposite()
-    mapper.AutoAdjustSampleDistancesOff()
-    mapper.LockSampleDistanceToInputSpacingOff()
-    mapper.SetSampleDistance(args.step)
-    mapper.SetImageSampleDistance(1.0)
+    mapper = ray_cast_mapper(img, args.step)
     # No opaque geometry in the scene: skip reading back the depth buffer each frame.
     mapper.IntermixIntersectingGeometryOff()
 
@@ -188,11 +218,7 @@ def main():
     ren = vtk.vtkRenderer()
     ren.SetBackground(0.0, 0.0, 0.0)
     ren.AddVolume(volume)
-    win = vtk.vtkRenderWindow()
-    win.SetOffScreenRendering(1)
-    win.SetSize(args.size, args.size)
-    win.SetMultiSamples(0)
-    win.AddRenderer(ren)
+    win = offscreen_window(ren, args.size)
     anterior_camera(ren.GetActiveCamera(), sizes, spacings, args.size, args.size)
 
     print(f"vtk {vtk.vtkVersion.GetVTKVersion()}, window {win.GetClassName()}, "
@@ -221,16 +247,8 @@ def main():
               f"{statistics.median(draws):.1f} threads_used={mapper.GetNumberOfThreads()} "
               f"frames_ms={','.join(f'{w:.0f}' for w in walls)}", flush=True)
 
-        grab = vtk.vtkWindowToImageFilter()
-        grab.SetInput(win)
-        grab.SetInputBufferTypeToRGB()
-        grab.ReadFrontBufferOff()
-        grab.Update()
         png = f"{args.out}-t{n}.png"
-        w = vtk.vtkPNGWriter()
-        w.SetFileName(png)
-        w.SetInputConnection(grab.GetOutputPort())
-        w.Write()
+        write_png(win, png)
         print(f"  -> {png}", flush=True)
         if args.compare:
             print("  " + compare(args.compare, png), flush=True)
