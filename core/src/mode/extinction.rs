@@ -140,6 +140,7 @@ impl LaneMode for ExtinctionWeighted {
     type Taps = StoredF32x4;
     type W = Linear;
     const LAG: u32 = 1;
+    type Correction = crate::opacity::Uncorrected;
     #[inline(always)]
     fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
         integrate_in(i, d)

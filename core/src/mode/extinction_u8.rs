@@ -197,6 +197,7 @@ impl LaneMode for ExtinctionWeightedU8<'_> {
     type Taps = TauOfAlpha8;
     type W = Linear;
     const LAG: u32 = 1;
+    type Correction = crate::opacity::Uncorrected;
     #[inline(always)]
     fn taus(&self) -> &[f32; 256] {
         self.table.taus()

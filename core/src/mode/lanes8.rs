@@ -10,6 +10,7 @@
 
 use crate::lanes::Lanes;
 use crate::num::Num;
+use crate::opacity::{Corrected, Correction, Uncorrected};
 use crate::sample::Interp;
 use crate::voxel::{ExtinctionF32, StraightF32, StraightU8, Voxel};
 
@@ -40,6 +41,28 @@ impl LaneVoxel for StraightF32 {
     #[inline(always)]
     fn retype<V: Voxel>(data: &[V]) -> Option<&[Self]> {
         V::as_straight_f32(data)
+    }
+}
+
+/// A lane kernel's correction stage ([`LaneMode::Correction`]), made from the marcher's.
+pub trait LaneCorrection: Correction {
+    /// The stage for a marcher whose correction is `c` (`None` where `d = d′`).
+    fn of(c: Option<Corrected>) -> Self;
+}
+
+impl LaneCorrection for Option<Corrected> {
+    #[inline(always)]
+    fn of(c: Option<Corrected>) -> Self {
+        c
+    }
+}
+
+/// For the extinction modes: a marcher never corrects them (`RayMarcher::new` enables the
+/// correction for opacity-based modes only), so `c` is always `None` here.
+impl LaneCorrection for Uncorrected {
+    #[inline(always)]
+    fn of(_c: Option<Corrected>) -> Self {
+        Uncorrected
     }
 }
 
@@ -107,6 +130,10 @@ pub trait LaneMode {
     /// How many steps the kernel lags the finish of a sample behind its sums (a long chain
     /// of dependent operations, extinction's `exp`, overlaps the next samples' work then).
     const LAG: u32;
+    /// The correction stage the kernel applies after the finish: the marcher's
+    /// `Option<Corrected>` for the opacity-based modes, [`Uncorrected`] for the extinction
+    /// modes, which never correct (so their kernels carry no correction code).
+    type Correction: LaneCorrection;
 
     /// `data` as the kernel's voxel format ([`LaneVoxel::retype`]).
     #[inline(always)]
@@ -136,6 +163,7 @@ impl<M: LaneMode<Voxel = StraightU8, Taps = Unorm8>> LaneMode for OverF32<M> {
     type Taps = StoredF32x4;
     type W = M::W;
     const LAG: u32 = M::LAG;
+    type Correction = M::Correction;
 
     #[inline(always)]
     fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {

@@ -31,8 +31,8 @@ pub use preweighted::Preweighted;
 pub use separate::Separate;
 
 pub(crate) use lanes8::{
-    ByOpacity, LaneMode, LaneVisitor, LaneVoxel, Linear, StoredF32x4, TauOfAlpha8, Unorm8,
-    Weighting,
+    ByOpacity, LaneCorrection, LaneMode, LaneVisitor, LaneVoxel, Linear, StoredF32x4, TauOfAlpha8,
+    Unorm8, Weighting,
 };
 // (The integer lane kernel's visitors, x86-64 only, pass the empty `τ` table.)
 #[cfg(target_arch = "x86_64")]

@@ -76,6 +76,7 @@ impl LaneMode for Separate {
     type Taps = Unorm8;
     type W = Linear;
     const LAG: u32 = 0;
+    type Correction = Option<crate::opacity::Corrected>;
     #[inline(always)]
     fn finish_lanes<T: Lanes>(i: Interp<T>, d: f32) -> Interp<T> {
         <Self as Mode<StraightU8>>::finish_in(&Self, i, d)

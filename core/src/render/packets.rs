@@ -6,7 +6,7 @@ use super::*;
 #[cfg(target_arch = "x86_64")]
 use crate::arch::avx2::{Samples, Stage};
 #[cfg(target_arch = "x86_64")]
-use crate::mode::{LaneMode, LaneVisitor};
+use crate::mode::{LaneCorrection, LaneMode, LaneVisitor};
 
 impl<'v, V, M, F, O, S> RayMarcher<'v, V, M, F, O, S>
 where
@@ -95,12 +95,12 @@ where
     /// correction and stop level, and the mode's `taus`.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    fn stage<'t>(&self, taus: &'t [f32; 256]) -> Stage<'t, Option<Corrected>> {
+    fn stage<'t, C: LaneCorrection>(&self, taus: &'t [f32; 256]) -> Stage<'t, C> {
         Stage {
             d: self.step.d,
             a_stop: self.order.termination().a_stop_or_inf(),
             taus,
-            corr: self.correction,
+            corr: C::of(self.correction),
         }
     }
 
@@ -227,7 +227,7 @@ where
             return (self.rays, self.out);
         };
         let vol = m.volume.with_data(data);
-        let (d, stage) = (m.step.d, m.stage(mode.taus()));
+        let (d, stage) = (m.step.d, m.stage::<K::Correction>(mode.taus()));
         in_packets(self.rays, self.out, |r| {
             let samples = Samples::packet(r, |r| m.samples(r), |r, s| m.skip.occupied(r, s, d));
             let acc = march8::<K::Voxel, K>(self.cpu, &vol, r, &samples, stage);
@@ -265,7 +265,7 @@ where
             &vol,
             self.ray,
             &self.samples,
-            m.stage(mode.taus()),
+            m.stage::<K::Correction>(mode.taus()),
         ))
     }
 }

@@ -13,7 +13,7 @@ use core::arch::x86_64::*;
 
 use super::*;
 use crate::mode::{LaneMode, StoredF32x4, TauOfAlpha8, Unorm8};
-use crate::opacity::{Corrected, Correction};
+use crate::opacity::Correction;
 
 /// The per-step operations of one kind of kernel (see the module doc). # Safety of every
 /// method: the CPU must have AVX2 and FMA.
@@ -102,7 +102,8 @@ pub trait ReadTaps {
     }
 
     /// The channels of tap `k` (its words' [`channels`](Self::channels)); `INSIDE` as
-    /// [`Taps::load`].
+    /// [`Taps::load`]. Safety, besides AVX2 and FMA: `INSIDE` only where `taps.inside()` (a
+    /// read may then skip its bounds checks, as [`Taps::load_f32x4`] does).
     #[inline]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn tap<V: Voxel, const INSIDE: bool>(
@@ -141,20 +142,23 @@ impl ReadTaps for StoredF32x4 {
         k: usize,
         _taus: &[f32; 256],
     ) -> [__m256; 4] {
-        taps.load_f32x4::<INSIDE>(k)
+        // SAFETY: the caller's contract: AVX2 and FMA, and `taps.inside()` where `INSIDE`.
+        unsafe { taps.load_f32x4::<INSIDE>(k) }
     }
 }
 
 /// The channels of all eight taps ([`ReadTaps::tap`] of each, called here directly: through a
 /// closure per tap, the one-ray march of 16-byte extinction voxels took 1.18–1.19 of its
-/// former time in quick passes, the reads apparently not inlined).
+/// former time in quick passes, the reads apparently not inlined). Safety: AVX2 and FMA, and
+/// `INSIDE` only where `taps.inside()`.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn all_taps<R: ReadTaps, V: Voxel, const INSIDE: bool>(
     taps: &Taps<'_, V>,
     taus: &[f32; 256],
 ) -> [[__m256; 4]; 8] {
-    // SAFETY: the caller's contract (AVX2 and FMA), which this function has too.
+    // SAFETY: the caller's contract (AVX2 and FMA, and `taps.inside()` where `INSIDE`), which
+    // `ReadTaps::tap` asks for.
     unsafe {
         [
             R::tap::<V, INSIDE>(taps, 0, taus),
@@ -172,7 +176,7 @@ unsafe fn all_taps<R: ReadTaps, V: Voxel, const INSIDE: bool>(
 impl<M: LaneMode> Kind for M {
     const LAG: u32 = M::LAG;
     type Out = Sample;
-    type Corr = Option<Corrected>;
+    type Corr = M::Correction;
 
     #[inline(always)]
     fn out([r, g, b, a]: [i32; 4]) -> Sample {
@@ -221,7 +225,7 @@ impl<M: LaneMode> Kind for M {
             });
         } else if taps.inside() {
             for (c, k) in out.iter_mut().zip(ks) {
-                // SAFETY: as above.
+                // SAFETY: as above, and `taps.inside()` for `INSIDE`.
                 *c = unsafe { <M::Taps as ReadTaps>::tap::<V, true>(taps, k, taus) };
             }
         } else {
@@ -259,7 +263,7 @@ impl<M: LaneMode> Kind for M {
                 &w,
             )
         } else if taps.inside() {
-            // SAFETY: as above.
+            // SAFETY: as above, and `taps.inside()` for `INSIDE`.
             let c = unsafe { all_taps::<M::Taps, V, true>(taps, taus) };
             mode_sums::<M::W>(
                 |k| c.get(k).copied().unwrap_or([_mm256_setzero_ps(); 4]),
@@ -277,12 +281,8 @@ impl<M: LaneMode> Kind for M {
 
     #[inline]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn finish(s: [__m256; 4], d: f32, corr: Option<Corrected>) -> [__m256; 4] {
-        let s = M::finish_lanes(interp(s), d);
-        vectors(match corr {
-            Some(c) => c.apply_in(s),
-            None => s,
-        })
+    unsafe fn finish(s: [__m256; 4], d: f32, corr: M::Correction) -> [__m256; 4] {
+        vectors(corr.apply_in(M::finish_lanes(interp(s), d)))
     }
 
     #[inline]
