@@ -61,7 +61,8 @@ impl LaneCorrection for Option<Corrected> {
 /// correction for opacity-based modes only), so `c` is always `None` here.
 impl LaneCorrection for Uncorrected {
     #[inline(always)]
-    fn of(_c: Option<Corrected>) -> Self {
+    fn of(c: Option<Corrected>) -> Self {
+        debug_assert!(c.is_none(), "an extinction marcher with a correction");
         Uncorrected
     }
 }

@@ -79,9 +79,9 @@ impl<'d, V: Voxel> Taps<'d, V> {
 
     /// The four stored `f32` of tap `k`'s eight 16-byte voxels: `[C^τ r, g, b, τ]` of
     /// [`ExtinctionF32`], `[r, g, b, α]` of [`StraightF32`]; one 16-byte read per lane and a
-    /// 4 × 4 transposition per half; without bounds checks where `INSIDE` and `inside` (as
-    /// [`load`](Self::load)). All zero (transparent) for other formats, which the kernel never
-    /// reads this way.
+    /// 4 × 4 transposition per half; without bounds checks where `INSIDE` (which, unlike
+    /// [`load`](Self::load)'s, is the caller's promise, below). All zero (transparent) for
+    /// other formats, which the kernel never reads this way.
     ///
     /// # Safety
     /// Where `INSIDE`, every tap index must lie in the data ([`inside`](Self::inside), which
