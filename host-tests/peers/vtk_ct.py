@@ -185,9 +185,14 @@ def write_png(win, png):
     grab.SetInputBufferTypeToRGB()
     grab.ReadFrontBufferOff()
     grab.Update()
+    write_png_of(grab.GetOutputPort(), png)
+
+
+def write_png_of(port, png):
+    """The image of a VTK pipeline's output `port` as a PNG."""
     w = vtk.vtkPNGWriter()
     w.SetFileName(png)
-    w.SetInputConnection(grab.GetOutputPort())
+    w.SetInputConnection(port)
     w.Write()
 
 

@@ -128,10 +128,7 @@ def mirror_png(src, dst):
     f = vtk.vtkImageFlip()
     f.SetFilteredAxis(0)
     f.SetInputConnection(r.GetOutputPort())
-    w = vtk.vtkPNGWriter()
-    w.SetFileName(dst)
-    w.SetInputConnection(f.GetOutputPort())
-    w.Write()
+    vtk_ct.write_png_of(f.GetOutputPort(), dst)
 
 
 def main():
