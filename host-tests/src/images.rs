@@ -9,18 +9,33 @@ use volsample::Sample;
 /// # Errors
 /// I/O or encoder errors, as text.
 pub fn write_rgb(path: &Path, width: usize, height: usize, rgb: &[[f32; 3]]) -> Result<(), String> {
-    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width as u32, height as u32);
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    let mut w = enc
-        .write_header()
-        .map_err(|e| format!("{}: {e}", path.display()))?;
     let bytes: Vec<u8> = rgb
         .iter()
         .flat_map(|p| p.map(|x| (x.clamp(0.0, 1.0) * 255.0 + 0.5).floor() as u8))
         .collect();
-    w.write_image_data(&bytes)
+    write_rgb8(path, width, height, &bytes)
+}
+
+/// Writes an 8-bit RGB PNG from `width × height` pixels of three bytes each, row by row.
+///
+/// # Errors
+/// I/O or encoder errors (also a buffer of another size), as text.
+pub(crate) fn write_rgb8(
+    path: &Path,
+    width: usize,
+    height: usize,
+    bytes: &[u8],
+) -> Result<(), String> {
+    let (w, h) = match (u32::try_from(width), u32::try_from(height)) {
+        (Ok(w), Ok(h)) => (w, h),
+        _ => return Err(format!("{}: {width}×{height} is too large", path.display())),
+    };
+    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), w, h);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.write_header()
+        .and_then(|mut w| w.write_image_data(bytes))
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
@@ -121,16 +136,6 @@ pub fn write_panels(
             None
         }
     };
-    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut enc = png::Encoder::new(
-        std::io::BufWriter::new(file),
-        total_w as u32,
-        total_h as u32,
-    );
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    enc.write_header()
-        .and_then(|mut w| w.write_image_data(&buf))
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    write_rgb8(path, total_w, total_h, &buf)?;
     Ok(warning)
 }

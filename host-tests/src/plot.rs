@@ -78,11 +78,14 @@ pub fn error_vs_time(
     summary: &[(Method, f64, f64, f64, usize)],
 ) -> Result<(), String> {
     register_font()?;
+    let (w, h) = PLOT_SIZE;
+    let mut buf = vec![0u8; 3 * w as usize * h as usize];
     draw(
-        BitMapBackend::new(path, PLOT_SIZE).into_drawing_area(),
+        BitMapBackend::with_buffer(&mut buf, PLOT_SIZE).into_drawing_area(),
         subtitle,
         summary,
-    )
+    )?;
+    crate::images::write_rgb8(path, w as usize, h as usize, &buf)
 }
 
 /// The plot of [`error_vs_time`] as SVG text (for the report's page).

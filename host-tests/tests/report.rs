@@ -377,3 +377,51 @@ fn sample_range_is_the_count_of_a_ray_that_does_not_stop() {
         assert!(nonzero > 50, "{nonzero}");
     }
 }
+
+/// The error-against-time plot is written as a 1200 × 680 RGB PNG (drawn into memory, encoded
+/// by the `png` crate) with a white background, each method's colour on it, and text.
+#[test]
+fn the_plot_png_holds_the_drawn_chart() {
+    let summary = [
+        (
+            method(ModeChoice::OpacityWeighted, FilterKind::TrilinearSum),
+            10.0,
+            20.0,
+            5.0,
+            3,
+        ),
+        (
+            method(ModeChoice::Separate, FilterKind::Nearest),
+            30.0,
+            60.0,
+            2.0,
+            3,
+        ),
+    ];
+    let dir = std::env::temp_dir().join(format!("volsample-plot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("plot.png");
+    let r = volsample_host::plot::error_vs_time(&path, "test scenes", &summary);
+    if !std::path::Path::new(volsample_host::plot::FONT).exists() {
+        assert!(r.unwrap_err().contains("fonts-dejavu-core"));
+        return;
+    }
+    r.unwrap();
+    let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!((info.width, info.height), (1200, 680));
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    let px: Vec<[u8; 3]> = buf[..info.buffer_size()]
+        .chunks_exact(3)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    let count = |c: [u8; 3]| px.iter().filter(|&&p| p == c).count();
+    // Mostly the white background; OW's blue and Separate's red (plot.rs's colours) drawn.
+    assert!(count([255, 255, 255]) > px.len() / 2);
+    assert!(count([38, 139, 210]) > 20, "{}", count([38, 139, 210]));
+    assert!(count([220, 50, 47]) > 20, "{}", count([220, 50, 47]));
+    // Black text and axes.
+    assert!(px.iter().filter(|p| p.iter().all(|&c| c < 64)).count() > 500);
+}
