@@ -199,6 +199,7 @@ macro_rules! with_filter {
 // After the macros they use (textual scope).
 mod int;
 mod post;
+mod vectors;
 
 /// What a float pipeline needs besides mode, filter and voxels.
 #[derive(Clone, Copy)]
@@ -841,6 +842,8 @@ fn _volsample(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pyramid, m)?)?;
     m.add_function(wrap_pyfunction!(downsample_level_u8, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(vectors::vectors, m)?)?;
+    m.add_function(wrap_pyfunction!(vectors::read_vectors, m)?)?;
     m.add_class::<Camera>()?;
     m.add_class::<TransferFunction>()?;
     Ok(())

@@ -24,6 +24,7 @@ from ._volsample import (
     downsample_level_int,
     downsample_level_u8,
     pyramid,
+    read_vectors,
     render,
     render_int,
     sample,
@@ -31,6 +32,7 @@ from ._volsample import (
     to_associated,
     to_extinction,
     to_extinction_fx,
+    vectors,
 )
 
 __all__ = [
@@ -41,6 +43,7 @@ __all__ = [
     "downsample_level_int",
     "downsample_level_u8",
     "pyramid",
+    "read_vectors",
     "render",
     "render_int",
     "sample",
@@ -48,4 +51,5 @@ __all__ = [
     "to_associated",
     "to_extinction",
     "to_extinction_fx",
+    "vectors",
 ]

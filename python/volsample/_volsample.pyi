@@ -1,6 +1,7 @@
 """Type stubs of the native module ``volsample._volsample`` (re-exported by ``volsample``)."""
 
-from typing import Literal, Sequence
+import os
+from typing import Any, Literal, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -214,4 +215,54 @@ def downsample_level_int(volume: npt.NDArray[np.uint8] | npt.NDArray[np.uint16]
     >>> fx = np.full((2, 2, 2, 4), [1 << 20, 0, 0, 1 << 20], np.uint32)
     >>> downsample_level_int(fx, "extinction")[0, 0, 0].tolist()    # D per coarse voxel: 2
     [2097152, 0, 0, 2097152]
+    """
+
+VectorKernel = Literal[
+    "opacity-weighted-nearest", "opacity-weighted-trilinear", "separate-nearest",
+    "separate-trilinear", "preweighted-nearest", "preweighted-trilinear",
+    "composite-front-to-back", "opacity-correction", "downsample-opacity-based",
+    "extinction-weighted-nearest", "extinction-weighted-trilinear",
+    "ray-march-opacity-weighted-nearest", "ray-march-opacity-weighted-trilinear"]
+
+def vectors(kernel: VectorKernel, out: str | os.PathLike[str], count: int = 10_000,
+            seed: int = 1, frac_bits: int = 8,
+            table_size: Literal[5, 17, 65, 257, 1025, 4097] | None = None) -> dict[str, Any]:
+    """Writes the HDL reference vectors of an integer kernel into ``out`` (created if
+    missing), byte for byte what ``volsample vectors --kernel … --count … --seed …
+    --frac-bits … [--table-size …] --out …`` writes (the same ``volsample_host::vectors``
+    code): ``inputs.hex`` and ``expected.hex`` (one ``$readmemh`` word per line), the kernel's
+    ``table_*.hex`` and ``manifest.json`` (every field's offset, width and meaning, the
+    rounding rules, the generator). Returns the manifest as a dict.
+
+    ``count`` vectors, corner cases first, then SplitMix64 draws from ``seed``;
+    ``frac_bits`` (4..=12) the sampling kernels' fractional position bits; ``table_size``
+    the ``φ``/``e^(−x)`` table entries of the ``extinction-weighted-*`` kernels (default 257).
+    The GIL is released while generating. Raises ``ValueError`` with the library's message
+    for a bad request, ``OSError`` when a file cannot be written.
+
+    >>> import os, tempfile
+    >>> out = os.path.join(tempfile.mkdtemp(), "ftb")
+    >>> m = vectors("composite-front-to-back", out, count=100, seed=7)
+    >>> m["count"], m["corner_cases"], m["inputs"]["word_bits"], m["expected"]["word_bits"]
+    (100, 49, 128, 64)
+    >>> [f["name"] for f in m["expected"]["fields"]]
+    ['r', 'g', 'b', 'a']
+    >>> sorted(os.listdir(out))
+    ['expected.hex', 'inputs.hex', 'manifest.json']
+    """
+
+def read_vectors(dir: str | os.PathLike[str]) -> dict[str, Any]:
+    """Reads a vector directory back (``volsample_host::vectors::read``: every word checked
+    against the manifest's layout and count): ``manifest`` (the parsed ``manifest.json``),
+    ``inputs`` and ``expected`` (``(count, fields)`` ``uint64`` arrays of field values, a two's
+    complement field as its own ``width`` bits, as the word holds it), ``input_fields`` and
+    ``expected_fields`` (the column names). Raises ``OSError`` for a missing file,
+    ``ValueError`` for a malformed one.
+
+    >>> import os, tempfile
+    >>> out = os.path.join(tempfile.mkdtemp(), "ftb")
+    >>> _ = vectors("composite-front-to-back", out, count=3)
+    >>> v = read_vectors(out)
+    >>> v["input_fields"][:4], v["inputs"].shape, v["expected"].dtype
+    (['acc_r', 'acc_g', 'acc_b', 'acc_a'], (3, 8), dtype('uint64'))
     """
