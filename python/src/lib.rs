@@ -15,14 +15,16 @@ use numpy::PyUntypedArrayMethods;
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyArray4, PyReadonlyArray2, PyReadonlyArray4};
 use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
+use volsample::composite::{Order, Threshold};
 use volsample::downsample::integer::{downsample_level_int, IntFilter4, IntOpacityBased};
 use volsample::downsample::{downsample_level as ds_level, level_dims, ExtinctionBased};
 use volsample::downsample::{Filter4, Method, OpacityBased};
 use volsample::mode::{ExtinctionWeightedU8, TauTable};
+use volsample::skip::{Emptiness, Occupancy, Skipping};
 use volsample::{
-    AssociatedF32, AssociatedU8, Error, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack,
-    Mode, Nearest, OpacityWeighted, Preweighted, RayMarcher, Sample, Separate, Step, StraightF32,
-    StraightU8, Trilinear, TriquadraticBSpline, Volume,
+    AssociatedF32, AssociatedU8, BackToFront, Error, ExtinctionF32, ExtinctionWeighted, Filter,
+    FrontToBack, Mode, Nearest, OpacityWeighted, Preweighted, RayMarcher, Sample, Separate, Step,
+    StraightF32, StraightU8, Trilinear, TriquadraticBSpline, Volume,
 };
 
 mod camera;
@@ -751,12 +753,46 @@ fn render_bands<P: Send>(
     results.into_iter().collect()
 }
 
-#[allow(clippy::too_many_arguments)]
-fn render_kernel<V, M, F>(
-    data: &[V],
-    mode: M,
-    filter: F,
-    p: Params,
+/// The float marcher's rendering options besides mode, filter and step.
+#[derive(Clone, Copy)]
+pub(crate) struct RenderOpts {
+    /// Early termination (`FrontToBack<Threshold>`); `None` never stops (`a_stop = 1`).
+    stop: Option<Threshold>,
+    /// `BackToFront` instead of `FrontToBack`.
+    back_to_front: bool,
+    /// The associated background, composited behind every ray by the marcher.
+    background: Sample,
+    /// Empty-space skipping (`with_skipping`, bricks of `2^SKIP_BRICK_LOG2` voxels).
+    skip: bool,
+}
+
+/// The brick size exponent of `skip=True`: 8³ voxels, as the CLI's `--skip`.
+const SKIP_BRICK_LOG2: u32 = 3;
+
+/// Runs `$body` with `$m` the marcher of `$vol` in the compositing order of `$o`.
+macro_rules! with_order {
+    ($o:expr, $vol:expr, $mode:expr, $filter:expr, $step:expr, $m:ident => $body:expr) => {
+        match ($o.back_to_front, $o.stop) {
+            (true, _) => {
+                let $m = RayMarcher::new($vol, $mode, $filter, BackToFront, $step)?;
+                $body
+            }
+            (false, Some(t)) => {
+                let $m = RayMarcher::new($vol, $mode, $filter, FrontToBack(t), $step)?;
+                $body
+            }
+            (false, None) => {
+                let $m = RayMarcher::new($vol, $mode, $filter, FrontToBack::new(), $step)?;
+                $body
+            }
+        }
+    };
+}
+
+/// Renders the image with a configured marcher, over the background, in bands of rows.
+fn draw<V, M, F, O, S>(
+    m: RayMarcher<'_, V, M, F, O, S>,
+    background: Sample,
     cam: CameraKind,
     size: (usize, usize),
     threads: usize,
@@ -766,18 +802,134 @@ where
     V: volsample::voxel::Voxel + Sync,
     M: Mode<V> + Sync,
     F: Filter + Sync,
+    O: Order + Sync,
+    S: Skipping + Sync,
 {
-    let m = marcher(data, p, mode, filter)?;
+    let m = m.with_background(background)?;
     render_bands(img, size, threads, |first, band| {
         m.render_rows_into(&cam, size, first, band)
     })
 }
 
+/// The volume of a call at its reference distance, and the step.
+fn volume_of<V: volsample::voxel::Voxel>(
+    data: &[V],
+    p: Params,
+) -> Result<(Volume<'_, V>, Step), Error> {
+    let vol = Volume::new(data, p.dims)?.with_reference_distance(p.d_ref)?;
+    Ok((vol, Step::new(p.step)?))
+}
+
+/// Renders without empty-space skipping (every mode, `post_classified` included).
+#[allow(clippy::too_many_arguments)]
+fn render_kernel<V, M, F>(
+    data: &[V],
+    mode: M,
+    filter: F,
+    p: Params,
+    cam: CameraKind,
+    size: (usize, usize),
+    threads: usize,
+    o: RenderOpts,
+    img: &mut [Sample],
+) -> Result<(), Error>
+where
+    V: volsample::voxel::Voxel + Sync,
+    M: Mode<V> + Sync,
+    F: Filter + Sync,
+{
+    let (vol, step) = volume_of(data, p)?;
+    with_order!(o, vol, mode, filter, step, m => draw(m, o.background, cam, size, threads, img))
+}
+
+/// Renders the modes that have empty voxels ([`Emptiness`]), skipping empty space where the
+/// options ask (bit-identical to not skipping, as the core promises).
+#[allow(clippy::too_many_arguments)]
+fn render_kernel_skip<V, M, F>(
+    data: &[V],
+    mode: M,
+    filter: F,
+    p: Params,
+    cam: CameraKind,
+    size: (usize, usize),
+    threads: usize,
+    o: RenderOpts,
+    img: &mut [Sample],
+) -> Result<(), Error>
+where
+    V: volsample::voxel::Voxel + Sync,
+    M: Mode<V> + Emptiness<V> + Sync,
+    F: Filter + Sync,
+{
+    if !o.skip {
+        return render_kernel(data, mode, filter, p, cam, size, threads, o, img);
+    }
+    let (vol, step) = volume_of(data, p)?;
+    let mut grid = vec![0u8; Occupancy::buffer_len(p.dims, SKIP_BRICK_LOG2)];
+    with_order!(o, vol, mode, filter, step, m => {
+        let m = m.with_skipping(&mut grid, SKIP_BRICK_LOG2)?;
+        draw(m, o.background, cam, size, threads, img)
+    })
+}
+
+/// The options of `render` checked: `a_stop` in `(0, 1]` (1: never stop), an order name, a
+/// background of four floats, no skipping for `post_classified` (it has no empty voxels: two
+/// scalars that classify as transparent can interpolate to one that does not).
+fn render_opts(
+    a_stop: f32,
+    order: &str,
+    background: Option<[f32; 4]>,
+    skip: bool,
+    mode: ModeName,
+) -> PyResult<RenderOpts> {
+    let stop = Threshold::new(a_stop).map_err(core_err)?;
+    let stop = (a_stop < 1.0).then_some(stop);
+    let back_to_front = match order {
+        "front_to_back" => false,
+        "back_to_front" => true,
+        other => {
+            return Err(value_err(format!(
+                "unknown order {other:?}: expected 'front_to_back' or 'back_to_front'"
+            )))
+        }
+    };
+    if back_to_front && stop.is_some() {
+        return Err(value_err(
+            "a_stop applies to order 'front_to_back' only (back to front cannot stop early)",
+        ));
+    }
+    if skip && matches!(mode, ModeName::PostClassified) {
+        return Err(value_err(
+            "skip is not available for mode 'post_classified' (interpolated scalars of transparent voxels may classify as visible)",
+        ));
+    }
+    let background = match background {
+        None => Sample::TRANSPARENT,
+        Some([r, g, b, a]) => {
+            let bg = Sample { c: [r, g, b], a };
+            if !bg.is_valid() {
+                return Err(core_err(Error::InvalidBackground));
+            }
+            bg
+        }
+    };
+    Ok(RenderOpts {
+        stop,
+        back_to_front,
+        background,
+        skip,
+    })
+}
+
 /// Renders a volume with a camera through the library's fast path
-/// (`RayMarcher::render_into`, front to back, no early termination): a `(height, width, 4)`
-/// `float32` image of associated `(C̃, α)` pixels over a transparent background.
+/// (`RayMarcher::render_rows_into`): a `(height, width, 4)` `float32` image of associated
+/// `(C̃, α)` pixels. Front to back without early termination over a transparent background
+/// unless asked: `a_stop` (`FrontToBack::with_threshold`: a ray stops once its opacity
+/// reaches it; 1 never stops), `order="back_to_front"` (`BackToFront`), `background`
+/// (associated `(C̃r, C̃g, C̃b, α)`, composited behind every ray by the marcher) and `skip`
+/// (empty-space skipping, `with_skipping` with 8³-voxel bricks: the same image bit for bit).
 #[pyfunction]
-#[pyo3(signature = (volume, camera, width, height, mode = "opacity_weighted", filter = "trilinear", step = 0.5, reference_distance = 1.0, threads = 1, tf = None))]
+#[pyo3(signature = (volume, camera, width, height, mode = "opacity_weighted", filter = "trilinear", step = 0.5, reference_distance = 1.0, threads = 1, tf = None, a_stop = 1.0, order = "front_to_back", background = None, skip = false))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -791,14 +943,30 @@ fn render<'py>(
     reference_distance: f32,
     threads: usize,
     tf: Option<PyRef<'py, TransferFunction>>,
+    a_stop: f32,
+    order: &str,
+    background: Option<[f32; 4]>,
+    skip: bool,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (mode, filter) = (parse_mode(mode)?, parse_filter(filter)?);
+    let o = render_opts(a_stop, order, background, skip, mode)?;
     let cam = camera.kind;
     let size = (width, height);
     let mut img = pixels(size, Sample::TRANSPARENT)?;
     if let Some(tf) = check_tf(mode, tf.as_deref())? {
         let (r, s) = (reference_distance, step);
-        post::render_post(py, volume, tf, filter, (s, r), cam, size, threads, &mut img)?;
+        post::render_post(
+            py,
+            volume,
+            tf,
+            filter,
+            (s, r),
+            cam,
+            size,
+            threads,
+            o,
+            &mut img,
+        )?;
     } else {
         let vol = read_volume(volume)?;
         let p = Params {
@@ -812,7 +980,7 @@ fn render<'py>(
                     job,
                     mode,
                     filter,
-                    render_kernel(p, cam, size, threads, &mut img)
+                    render_kernel_skip(p, cam, size, threads, o, &mut img)
                 )
             })
         })?;

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use volsample::{ControlPoint, Error, PostClassified, Sample};
 
 use crate::{core_err, value_err, FilterName, Params};
-use crate::{render_kernel, sample_kernel, CameraKind};
+use crate::{render_kernel, sample_kernel, CameraKind, RenderOpts};
 use volsample::{Nearest, Trilinear, TriquadraticBSpline};
 
 /// The most control points a Python `TransferFunction` holds (the core's capacity `N`).
@@ -168,6 +168,7 @@ pub(crate) fn render_post(
     cam: CameraKind,
     size: (usize, usize),
     threads: usize,
+    o: RenderOpts,
     img: &mut [Sample],
 ) -> PyResult<()> {
     let (scalars, dims) = read_scalars(volume)?;
@@ -182,7 +183,7 @@ pub(crate) fn render_post(
             &scalars,
             tf,
             filter,
-            render_kernel(p, cam, size, threads, img)
+            render_kernel(p, cam, size, threads, o, img)
         )
     });
     out.map_err(core_err)

@@ -155,17 +155,33 @@ def downsample_level_u8(volume: npt.NDArray[np.uint8], a: float = 0.25) -> npt.N
 
 def render(volume: AnyVolume, camera: Camera, width: int, height: int, mode: Mode = ...,
            filter: FilterName = ..., step: float = 0.5, reference_distance: float = 1.0,
-           threads: int = 1, tf: TransferFunction | None = None) -> npt.NDArray[np.float32]:
+           threads: int = 1, tf: TransferFunction | None = None, a_stop: float = 1.0,
+           order: Literal["front_to_back", "back_to_front"] = "front_to_back",
+           background: Sequence[float] | None = None,
+           skip: bool = False) -> npt.NDArray[np.float32]:
     """Renders ``(height, width, 4)`` associated pixels front to back (the library's fast path,
-    ``RayMarcher::render_into``; ``threads`` bands of rows give the same image bit for bit).
-    Every mode of :func:`sample`; ``mode="post_classified"`` reads a scalar volume and ``tf``.
-    Raises ``MemoryError`` for an image that cannot be allocated.
+    ``RayMarcher::render_rows_into``; ``threads`` bands of rows give the same image bit for
+    bit). Every mode of :func:`sample`; ``mode="post_classified"`` reads a scalar volume and
+    ``tf``. Raises ``MemoryError`` for an image that cannot be allocated.
+
+    ``a_stop`` ∈ (0, 1]: a ray stops once its opacity reaches it (``1``, the default: never;
+    each channel then differs from the unstopped pixel by at most ``1 − a_stop``).
+    ``order="back_to_front"`` composites the same samples from the far end (no ``a_stop``).
+    ``background``: an associated ``(C̃r, C̃g, C̃b, α)`` composited behind every ray (default
+    transparent). ``skip``: empty-space skipping over bricks of 8³ voxels, the same image bit
+    for bit (not for ``post_classified``).
 
     >>> import numpy as np
     >>> vol = np.zeros((4, 4, 4, 4), np.uint8); vol[1:3, 1:3, 1:3] = 255
     >>> img = render(vol, Camera.looking_down_z(vol.shape), 4, 4)
     >>> bool(img[1, 1, 3] > 0.99), float(img[0, 0, 3])
     (True, 0.0)
+    >>> col = np.full((10, 1, 1, 4), [1.0, 1.0, 1.0, 0.5], np.float32)  # α = ½ per voxel
+    >>> cam = Camera.looking_down_z(col.shape)
+    >>> float(render(col, cam, 1, 1, step=1.0, a_stop=0.9)[0, 0, 3])    # 1 − 2^−4 ≥ 0.9
+    0.9375
+    >>> render(col[:4], cam, 1, 1, step=1.0, background=[0, 0, 0.5, 0.5])[0, 0].tolist()
+    [0.9375, 0.9375, 0.96875, 0.96875]
     """
 
 def render_int(volume: IntVolume, camera: Camera, width: int, height: int,
