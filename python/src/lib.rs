@@ -201,6 +201,7 @@ macro_rules! with_filter {
 // After the macros they use (textual scope).
 mod int;
 mod post;
+mod prepass;
 mod vectors;
 
 /// What a float pipeline needs besides mode, filter and voxels.
@@ -1010,9 +1011,14 @@ fn _volsample(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pyramid, m)?)?;
     m.add_function(wrap_pyfunction!(downsample_level_u8, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(prepass::classify_transfer, m)?)?;
+    m.add_function(wrap_pyfunction!(prepass::classify_isosurface, m)?)?;
+    m.add_function(wrap_pyfunction!(prepass::gradient, m)?)?;
+    m.add_function(wrap_pyfunction!(prepass::shade, m)?)?;
     m.add_function(wrap_pyfunction!(vectors::vectors, m)?)?;
     m.add_function(wrap_pyfunction!(vectors::read_vectors, m)?)?;
     m.add_class::<Camera>()?;
     m.add_class::<TransferFunction>()?;
+    m.add_class::<prepass::Light>()?;
     Ok(())
 }

@@ -109,6 +109,14 @@ fn read_scalars_of<T: numpy::Element + Copy>(
 
 /// Reads a `(z, y, x)` `uint8`, `uint16` or `float32` scalar volume and its `[x, y, z]` dims.
 pub(crate) fn read_scalars(obj: &Bound<'_, PyAny>) -> PyResult<(Scalars, [usize; 3])> {
+    read_scalars_for(obj, "mode 'post_classified'")
+}
+
+/// [`read_scalars`] for `who` (named in the error).
+pub(crate) fn read_scalars_for(
+    obj: &Bound<'_, PyAny>,
+    who: &str,
+) -> PyResult<(Scalars, [usize; 3])> {
     if let Some((d, dims)) = read_scalars_of::<u8>(obj) {
         return Ok((Scalars::U8(d), dims));
     }
@@ -118,9 +126,9 @@ pub(crate) fn read_scalars(obj: &Bound<'_, PyAny>) -> PyResult<(Scalars, [usize;
     if let Some((d, dims)) = read_scalars_of::<f32>(obj) {
         return Ok((Scalars::F32(d), dims));
     }
-    Err(value_err(
-        "mode 'post_classified' reads a scalar volume: a numpy array of shape (z, y, x) and dtype uint8, uint16 or float32",
-    ))
+    Err(value_err(format!(
+        "{who} reads a scalar volume: a numpy array of shape (z, y, x) and dtype uint8, uint16 or float32"
+    )))
 }
 
 /// Runs `$k(data, PostClassified::new(tf), filter, args…)` for the scalar type at hand.

@@ -71,3 +71,16 @@ INT_EXTINCTION_LEVEL_LSB = 0.5 + 1e-6
 
 #: One level of the integer opacity-based downsampling: within ``½ + 2^−8`` storage LSB.
 INT_OPACITY_LEVEL_LSB = 0.5 + 2 ** -8
+
+#: Levoy's isosurface classification (``classify_isosurface``): each ``α`` within ``4ε`` of
+#: the exact classification of the same f32 scalars, gradient included (the core's doc,
+#: ``CLASSIFY_ISOSURFACE_ABS`` in its tests).
+CLASSIFY_ISOSURFACE_ABS = 4 * EPS32
+
+
+def shade_abs(ambient: float, diffuse: float) -> float:
+    """``shade``: each shaded channel within ``k_d·7ε + 2u·min(1, k_a + k_d) + u`` of
+    ``C·min(1, k_a + k_d·|n·L|)`` with the exact normal (``u = ε/2``; the core's doc of
+    ``shade_in_place``)."""
+    u = EPS32 / 2
+    return diffuse * 7 * EPS32 + 2 * u * min(1.0, ambient + diffuse) + u

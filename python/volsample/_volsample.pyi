@@ -18,6 +18,8 @@ AnyVolume = VolumeArray | npt.NDArray[np.uint16]
 #: The integer kernels' volumes: straight or associated ``uint8`` RGBA, or ``uint32``
 #: ``ExtinctionFx`` voxels ``(D·C r, g, b, D)`` (see :func:`to_extinction_fx`).
 IntVolume = npt.NDArray[np.uint8] | npt.NDArray[np.uint32]
+#: Scalar volumes ``(z, y, x)`` of the classification and shading pre-passes.
+ScalarVolume = npt.NDArray[np.uint8] | npt.NDArray[np.uint16] | npt.NDArray[np.float32]
 
 class TransferFunction:
     """A piecewise-linear transfer function (the core's ``TransferFunction``): scalar ``s`` to
@@ -231,6 +233,88 @@ def downsample_level_int(volume: npt.NDArray[np.uint8] | npt.NDArray[np.uint16]
     >>> fx = np.full((2, 2, 2, 4), [1 << 20, 0, 0, 1 << 20], np.uint32)
     >>> downsample_level_int(fx, "extinction")[0, 0, 0].tolist()    # D per coarse voxel: 2
     [2097152, 0, 0, 2097152]
+    """
+
+class Light:
+    """A directional light for :func:`shade` (the core's ``shade::Light``): ambient and diffuse
+    (two-sided Lambert) terms, a shaded color ``C·min(1, k_a + k_d·|n·L|)`` with ``n`` the
+    normalised scalar gradient (``|n·L| = 1`` where the gradient vanishes).
+
+    ``direction`` ``(x, y, z)``: any finite non-zero vector (normalised by the core);
+    ``ambient`` ``k_a ≥ 0``, ``diffuse`` ``k_d ≥ 0``. Raises ``ValueError`` with the core's
+    message otherwise.
+
+    >>> Light([0, 0, 2], ambient=0.25, diffuse=0.75).direction
+    [0.0, 0.0, 2.0]
+    """
+
+    def __init__(self, direction: Sequence[float], ambient: float = 0.25,
+                 diffuse: float = 0.75) -> None: ...
+    @staticmethod
+    def unlit() -> Light:
+        """The identity light (``k_a = 1``, ``k_d = 0``): shading changes no color."""
+    @property
+    def direction(self) -> list[float]:
+        """The direction as given."""
+    @property
+    def ambient(self) -> float: ...
+    @property
+    def diffuse(self) -> float: ...
+
+def classify_transfer(scalars: ScalarVolume, tf: TransferFunction) -> npt.NDArray[np.float32]:
+    """Pre-classification: every voxel of a scalar volume ``(z, y, x)`` through ``tf``, the
+    straight ``(r, g, b, a)`` of ``tf.eval`` at its scalar (``classify::classify_transfer``), as
+    a new straight ``float32`` volume ``(z, y, x, 4)`` to sample or render with the straight
+    modes. The GIL is released.
+
+    >>> import numpy as np
+    >>> ramp = TransferFunction([(0, 0, 0, 0, 0), (100, 1, 1, 1, 1)])
+    >>> classify_transfer(np.array([[[0, 50, 100]]], np.uint8), ramp)[0, 0].tolist()
+    [[0.0, 0.0, 0.0, 0.0], [0.5, 0.5, 0.5, 0.5], [1.0, 1.0, 1.0, 1.0]]
+    """
+
+def classify_isosurface(scalars: ScalarVolume, isovalue: float, opacity: float = 1.0,
+                        thickness: float = 1.0,
+                        color: Sequence[float] = (1.0, 1.0, 1.0)) -> npt.NDArray[np.float32]:
+    """Levoy's isosurface classification (``classify::classify_isosurface``): opacity
+    ``opacity·(1 − |isovalue − f|/(thickness·|∇f|))`` where that ratio is at most 1 (``opacity``
+    on the isovalue, 0 elsewhere), ``∇f`` as :func:`gradient`, and the straight ``color``
+    everywhere: a new straight ``float32`` volume ``(z, y, x, 4)``. Each ``α`` within ``4ε``
+    (``ε = 2^−23``) of the exact classification of the same scalars. ``opacity`` in ``[0, 1]``,
+    ``thickness > 0`` (voxels), ``color`` in ``[0, 1]``.
+
+    >>> import numpy as np
+    >>> ramp = np.arange(5, dtype=np.float32).reshape(1, 1, 5)            # f = x, |∇f| = 1
+    >>> classify_isosurface(ramp, 2.0, thickness=2.0)[0, 0, :, 3].tolist()
+    [0.0, 0.5, 1.0, 0.5, 0.0]
+    """
+
+def gradient(scalars: ScalarVolume) -> npt.NDArray[np.float32]:
+    """The gradient of a scalar volume ``(z, y, x)`` at every voxel (``classify::gradient``):
+    ``(z, y, x, 3)`` ``float32`` ``(∂f/∂x, ∂f/∂y, ∂f/∂z)``, central differences
+    ``(f[i+1] − f[i−1])/2`` inside, one-sided differences at the faces, 0 along an axis of
+    length 1: the normals of :func:`classify_isosurface` and :func:`shade`.
+
+    >>> import numpy as np
+    >>> gradient(np.array([[[0, 1, 4]]], np.float32))[0, 0].tolist()
+    [[1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [3.0, 0.0, 0.0]]
+    """
+
+def shade(volume: VolumeArray, scalars: ScalarVolume, light: Light) -> npt.NDArray[np.float32]:
+    """Pre-shading (``shade::shade_in_place`` on a copy; ``volume`` is not modified): the
+    straight colors of ``volume`` ``(z, y, x, 4)`` (uint8 ``n/255`` or float32) times
+    ``min(1, k_a + k_d·|n·L|)``, ``n`` the normalised gradient of ``scalars`` (the same
+    ``(z, y, x)``), clamped to ``[0, 1]``; opacities unchanged. A new straight ``float32``
+    volume, each channel within ``k_d·7ε + 2u·min(1, k_a + k_d) + u`` of the exact value
+    (``u = ε/2``).
+
+    >>> import numpy as np
+    >>> f = np.arange(3, dtype=np.float32).reshape(1, 1, 3)               # ∇f along x
+    >>> rgba = np.full((1, 1, 3, 4), [1.0, 0.5, 0.0, 1.0], np.float32)
+    >>> shade(rgba, f, Light([1, 0, 0], 0.25, 0.75))[0, 0, 0].tolist()    # n·L = 1: lit
+    [1.0, 0.5, 0.0, 1.0]
+    >>> shade(rgba, f, Light([0, 1, 0], 0.25, 0.75))[0, 0, 0].tolist()    # n ⊥ L: ambient
+    [0.25, 0.125, 0.0, 1.0]
     """
 
 VectorKernel = Literal[
