@@ -15,6 +15,7 @@ use volsample::downsample::integer::{
 use volsample::downsample::{level_dims, Filter4};
 use volsample::fixed_point::{ExtinctionFx, ExtinctionTables, IntExtinction, IntFilter, IntMode};
 use volsample::render::IntRayMarcher;
+use volsample::skip::{Emptiness, Occupancy, Skipping};
 use volsample::voxel::Voxel;
 use volsample::{
     AssociatedU8, Error, IntSample, IntStop, Nearest, OpacityWeighted, Preweighted, Separate, Step,
@@ -24,7 +25,7 @@ use volsample::{
 use crate::{
     core_err, parse_filter, parse_method, parse_mode, pixels, read_positions, read_rgba,
     read_volume, render_bands, straight_of, to_array2, to_array4, value_err, Camera, CameraKind,
-    Channels, FilterName, MethodName, ModeName, Params,
+    Channels, FilterName, MethodName, ModeName, Params, SKIP_BRICK_LOG2,
 };
 
 /// The node counts of the `φ` and `e^(−x)` tables `table_nodes` may name (`2^B + 1`).
@@ -85,7 +86,7 @@ fn fx(c: [u32; 4]) -> ExtinctionFx {
 
 /// A kernel generic over the integer pipeline's voxel, mode, filter and `F`: the one
 /// dispatch below instantiates it for every combination a call can name.
-trait IntKernel {
+trait IntKernel: Sized {
     type Out;
     fn run<V, M, Fl, const F: u32>(
         self,
@@ -97,6 +98,23 @@ trait IntKernel {
         V: Voxel + Sync,
         M: IntMode<V> + Sync,
         Fl: IntFilter + Sync;
+
+    /// [`run`](Self::run) for the modes that have empty voxels ([`Emptiness`]: the
+    /// opacity-based integer modes), where a kernel can skip empty space; `run` unless a
+    /// kernel says otherwise.
+    fn run_empty<V, M, Fl, const F: u32>(
+        self,
+        data: &[V],
+        mode: M,
+        filter: Fl,
+    ) -> Result<Self::Out, Error>
+    where
+        V: Voxel + Sync,
+        M: IntMode<V> + Emptiness<V> + Sync,
+        Fl: IntFilter + Sync,
+    {
+        self.run::<V, M, Fl, F>(data, mode, filter)
+    }
 }
 
 /// The call's integer options, checked before any work.
@@ -167,9 +185,9 @@ fn by_mode<K: IntKernel, Fl: IntFilter + Sync, const F: u32>(
     nodes: usize,
 ) -> Result<K::Out, Error> {
     match job {
-        IntJob::Separate(d) => k.run::<_, _, _, F>(d, Separate, fl),
-        IntJob::OpacityWeighted(d) => k.run::<_, _, _, F>(d, OpacityWeighted, fl),
-        IntJob::Preweighted(d) => k.run::<_, _, _, F>(d, Preweighted, fl),
+        IntJob::Separate(d) => k.run_empty::<_, _, _, F>(d, Separate, fl),
+        IntJob::OpacityWeighted(d) => k.run_empty::<_, _, _, F>(d, OpacityWeighted, fl),
+        IntJob::Preweighted(d) => k.run_empty::<_, _, _, F>(d, Preweighted, fl),
         IntJob::Extinction(d) => match nodes {
             17 => with_tables::<K, Fl, F, 17>(k, d, fl),
             65 => with_tables::<K, Fl, F, 65>(k, d, fl),
@@ -240,14 +258,36 @@ impl IntKernel for SampleAt<'_> {
     }
 }
 
-/// `IntRayMarcher::render_rows_into` in bands of rows.
+/// `IntRayMarcher::render_rows_into` in bands of rows, over the background, skipping empty
+/// space where asked (`with_skipping`, 8³-voxel bricks; only the modes with [`Emptiness`]).
 struct RenderInto<'a> {
     p: Params,
     stop: IntStop,
+    background: IntSample,
+    skip: bool,
     cam: CameraKind,
     size: (usize, usize),
     threads: usize,
     img: &'a mut [IntSample],
+}
+
+impl RenderInto<'_> {
+    /// Renders the image with a configured marcher, in bands of rows.
+    fn draw<V, M, Fl, const F: u32, S>(
+        self,
+        m: &IntRayMarcher<'_, V, M, Fl, F, S>,
+    ) -> Result<(), Error>
+    where
+        V: Voxel + Sync,
+        M: IntMode<V> + Sync,
+        Fl: IntFilter + Sync,
+        S: Skipping + Sync,
+    {
+        let (cam, size) = (self.cam, self.size);
+        render_bands(self.img, size, self.threads, |first, band| {
+            m.render_rows_into(&cam, size, first, band)
+        })
+    }
 }
 
 impl IntKernel for RenderInto<'_> {
@@ -258,12 +298,43 @@ impl IntKernel for RenderInto<'_> {
         M: IntMode<V> + Sync,
         Fl: IntFilter + Sync,
     {
-        let m = int_marcher::<V, M, Fl, F>(data, mode, filter, self.p, self.stop)?;
-        let (cam, size) = (self.cam, self.size);
-        render_bands(self.img, size, self.threads, |first, band| {
-            m.render_rows_into(&cam, size, first, band)
-        })
+        let m = int_marcher::<V, M, Fl, F>(data, mode, filter, self.p, self.stop)?
+            .with_background(self.background);
+        self.draw(&m)
     }
+
+    fn run_empty<V, M, Fl, const F: u32>(self, data: &[V], mode: M, filter: Fl) -> Result<(), Error>
+    where
+        V: Voxel + Sync,
+        M: IntMode<V> + Emptiness<V> + Sync,
+        Fl: IntFilter + Sync,
+    {
+        if !self.skip {
+            return self.run::<V, M, Fl, F>(data, mode, filter);
+        }
+        let mut grid = vec![0u8; Occupancy::buffer_len(self.p.dims, SKIP_BRICK_LOG2)];
+        let m = int_marcher::<V, M, Fl, F>(data, mode, filter, self.p, self.stop)?
+            .with_background(self.background)
+            .with_skipping(&mut grid, SKIP_BRICK_LOG2)?;
+        self.draw(&m)
+    }
+}
+
+/// The background of `render_int`: U8.8 associated `(C̃r, C̃g, C̃b, α)`, `C̃ ≤ α ≤ 65280`
+/// (`IntSample::new`); transparent when not given.
+fn int_background(background: Option<[i64; 4]>) -> PyResult<IntSample> {
+    let Some(bg) = background else {
+        return Ok(IntSample::TRANSPARENT);
+    };
+    let s = match bg.map(u16::try_from) {
+        [Ok(r), Ok(g), Ok(b), Ok(a)] => IntSample::new([r, g, b], a),
+        _ => Err(Error::InvalidIntSample),
+    };
+    s.map_err(|e| {
+        value_err(format!(
+            "background must be U8.8 associated (C̃r, C̃g, C̃b, α) with 0 <= C̃ <= α <= 65280: {e}"
+        ))
+    })
 }
 
 /// Samples a volume with the bit-exact integer pipeline (`IntRayMarcher::sample`: the position
@@ -299,10 +370,13 @@ pub(crate) fn sample_int<'py>(
 
 /// Renders a volume with the integer pipeline (`IntRayMarcher::render_into`, front to back,
 /// integer compositing, early termination once the opacity reaches `a_stop`): a
-/// `(height, width, 4)` `uint16` image of U8.8 associated pixels over a transparent
-/// background. `threads` bands of rows give the same image bit for bit.
+/// `(height, width, 4)` `uint16` image of U8.8 associated pixels over `background`
+/// (`with_background`: U8.8 associated, composited behind every ray with the same integer
+/// step; transparent by default). `skip` (`with_skipping`, 8³-voxel bricks, the modes but
+/// `extinction`) steps over empty space: the same image bit for bit. `threads` bands of rows
+/// give the same image bit for bit.
 #[pyfunction]
-#[pyo3(signature = (volume, camera, width, height, mode = "opacity_weighted", filter = "trilinear", step = 0.5, reference_distance = 1.0, frac_bits = 8, table_nodes = 257, a_stop = 65280, threads = 1))]
+#[pyo3(signature = (volume, camera, width, height, mode = "opacity_weighted", filter = "trilinear", step = 0.5, reference_distance = 1.0, frac_bits = 8, table_nodes = 257, a_stop = 65280, threads = 1, background = None, skip = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn render_int<'py>(
     py: Python<'py>,
@@ -318,13 +392,22 @@ pub(crate) fn render_int<'py>(
     table_nodes: usize,
     a_stop: i64,
     threads: usize,
+    background: Option<[i64; 4]>,
+    skip: bool,
 ) -> PyResult<Bound<'py, PyArray3<u16>>> {
     let o = int_options(filter, frac_bits, table_nodes)?;
     let stop = u16::try_from(a_stop)
         .map_err(|_| Error::InvalidThreshold)
         .and_then(IntStop::new)
         .map_err(core_err)?;
-    let (job, dims) = int_job(volume, parse_mode(mode)?)?;
+    let background = int_background(background)?;
+    let mode = parse_mode(mode)?;
+    if skip && matches!(mode, ModeName::Extinction) {
+        return Err(value_err(
+            "skip is not available for the integer mode 'extinction' (the core's IntRayMarcher skips for the opacity-based modes only)",
+        ));
+    }
+    let (job, dims) = int_job(volume, mode)?;
     let size = (width, height);
     let mut img = pixels(size, IntSample::TRANSPARENT)?;
     let k = RenderInto {
@@ -334,6 +417,8 @@ pub(crate) fn render_int<'py>(
             d_ref: reference_distance,
         },
         stop,
+        background,
+        skip,
         cam: camera.kind,
         size,
         threads,

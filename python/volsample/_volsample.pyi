@@ -190,7 +190,8 @@ def render_int(volume: IntVolume, camera: Camera, width: int, height: int,
                mode: IntModeName = ..., filter: Literal["nearest", "trilinear"] = ...,
                step: float = 0.5, reference_distance: float = 1.0, frac_bits: int = 8,
                table_nodes: Literal[17, 65, 257, 1025, 4097] = 257, a_stop: int = 65280,
-               threads: int = 1) -> npt.NDArray[np.uint16]:
+               threads: int = 1, background: Sequence[int] | None = None,
+               skip: bool = False) -> npt.NDArray[np.uint16]:
     """Renders ``(height, width, 4)`` U8.8 associated pixels with the integer pipeline
     (``IntRayMarcher::render_into``: positions quantized to ``frac_bits``, the integer kernel
     of ``mode`` as in :func:`sample_int`, table-driven opacity correction, integer front-to-back
@@ -199,11 +200,21 @@ def render_int(volume: IntVolume, camera: Camera, width: int, height: int,
     the same image bit for bit. Per ray the compositing adds at most ``n/2`` (α) and ``n`` (C̃)
     LSB over ``n`` samples.
 
+    ``background``: U8.8 associated ``(C̃r, C̃g, C̃b, α)``, ``C̃ ≤ α ≤ 65280``, composited
+    behind every ray (also one that stopped early) with the same integer step:
+    ``x + ⌊(65280 − A)·bg_x/65280 + ½⌋`` per channel (default transparent; an empty volume
+    renders to exactly the background). ``skip``: empty-space skipping over bricks of 8³
+    voxels (``with_skipping``), the same image bit for bit; not for ``mode="extinction"``.
+
     >>> import numpy as np
     >>> vol = np.zeros((4, 4, 4, 4), np.uint8); vol[1:3, 1:3, 1:3] = 255
     >>> img = render_int(vol, Camera.looking_down_z(vol.shape), 4, 4)
     >>> img[1, 1].tolist(), int(img[0, 0, 3])                 # opaque white core, clear air
     ([65280, 65280, 65280, 65280], 0)
+    >>> img = render_int(vol, Camera.looking_down_z(vol.shape), 4, 4, skip=True,
+    ...                  background=[0, 0, 32640, 32640])     # half-opaque blue behind
+    >>> img[1, 1].tolist(), img[0, 0].tolist()
+    ([65280, 65280, 65280, 65280], [0, 0, 32640, 32640])
     """
 
 def to_extinction_fx(volume: VolumeArray) -> npt.NDArray[np.uint32]:
