@@ -92,3 +92,78 @@ def test_the_halo_matters(volumes):
     inner = np.r_[0:3, 5:8]
     np.testing.assert_array_equal(naive[np.ix_(inner, inner, inner)],
                                   whole[np.ix_(inner, inner, inner)])
+
+
+# --- the integer methods ---------------------------------------------------------------------
+
+def whole_int(vol, levels, method, a):
+    """The whole-volume integer pyramid: the input, then downsample_level_int level after level
+    (what the core's build_chain_int computes)."""
+    out = [vol]
+    for _ in range(levels):
+        out.append(volsample.downsample_level_int(out[-1], method, a=a))
+    return out
+
+
+@pytest.fixture(scope="module")
+def int_volumes():
+    rng = np.random.default_rng(34)
+    straight = random_straight_u8(rng, SHAPE)
+    assoc = np.minimum(straight, straight[..., 3:])  # associated bytes: C̃ ≤ α
+    u88 = straight.astype(np.uint16) * 256 + rng.integers(0, 256, SHAPE + (4,), dtype=np.uint16)
+    u88[..., 3] = np.minimum(u88[..., 3], 65280)
+    u88 = np.minimum(u88, u88[..., 3:])
+    fx = volsample.to_extinction_fx(straight)
+    return {"uint8": assoc, "uint16": u88, "uint32": fx}
+
+
+INT_CASES = [("opacity_int", "uint8", 0.2), ("opacity_int", "uint16", 0.125),
+             ("extinction_int", "uint32", 0.25), ("extinction_int", "uint32", 0.2)]
+
+
+@pytest.mark.parametrize("chunks", CHUNKINGS, ids=lambda c: "x".join(map(str, c)))
+@pytest.mark.parametrize("method,dtype,a", INT_CASES)
+def test_int_chunk_invariance_bit_identical(int_volumes, chunks, method, dtype, a):
+    vol = int_volumes[dtype]
+    whole = whole_int(vol, LEVELS, method.removesuffix("_int"), a)
+    levels = vd.pyramid(da.from_array(vol, chunks=chunks + (4,)), LEVELS, method=method,
+                        filter=a)
+    assert len(levels) == LEVELS + 1
+    computed = dask.compute(*levels, scheduler="threads")
+    for lvl, (got, want, g) in enumerate(zip(levels, whole, computed)):
+        for c in got.chunks[:3]:
+            assert all(x % 2 ** (LEVELS - lvl) == 0 for x in c[:-1]), got.chunks
+        assert got.dtype == vol.dtype and g.dtype == vol.dtype and g.shape == want.shape
+        np.testing.assert_array_equal(g, want, err_msg=f"level {lvl}")
+    assert computed[-1].any()  # not a trivially zero pyramid
+
+
+def test_int_halo_matters(int_volumes):
+    """Downsampling each chunk on its own (no halo) differs from the whole volume at the seams,
+    so the invariance test above can fail."""
+    fx = int_volumes["uint32"][:16, :16, :16]
+    whole = volsample.downsample_level_int(fx, "extinction", 0.25)
+    naive = da.from_array(fx, chunks=(8, 8, 8, 4)).map_blocks(
+        lambda b: volsample.downsample_level_int(np.ascontiguousarray(b), "extinction", 0.25),
+        chunks=((4, 4),) * 3 + ((4,),), dtype=np.uint32).compute()
+    assert not np.array_equal(naive, whole)
+    inner = np.r_[0:3, 5:8]
+    np.testing.assert_array_equal(naive[np.ix_(inner, inner, inner)],
+                                  whole[np.ix_(inner, inner, inner)])
+
+
+def test_int_bad_input_raises():
+    with pytest.raises(ValueError, match="'opacity_int' reads associated uint8 or U8.8 uint16"):
+        vd.pyramid(da.zeros((8, 8, 8, 4), dtype=np.float32), 1, method="opacity_int")
+    with pytest.raises(ValueError, match="to_extinction_fx"):
+        vd.pyramid(da.zeros((8, 8, 8, 4), dtype=np.uint8), 1, method="extinction_int")
+    with pytest.raises(ValueError, match="filter"):
+        vd.pyramid(da.zeros((8, 8, 8, 4), dtype=np.uint32), 1, method="extinction_int",
+                   filter=-0.1)
+    with pytest.raises(ValueError, match="unknown method"):
+        vd.pyramid(da.zeros((8, 8, 8, 4), dtype=np.uint8), 1, method="mean_int")
+    # A bad voxel surfaces the core's message when computed.
+    bad = np.zeros((4, 4, 4, 4), np.uint8)
+    bad[1, 2, 3] = [9, 0, 0, 5]
+    with pytest.raises(ValueError, match="color above its opacity"):
+        vd.pyramid(da.from_array(bad, chunks=2), 1, method="opacity_int")[1].compute()

@@ -70,3 +70,21 @@ def test_readable_by_ngff_zarr(tmp_path, rng):
     for im, want in zip(ms.images, whole):
         assert tuple(im.dims) == ("c", "z", "y", "x")
         np.testing.assert_array_equal(np.moveaxis(np.asarray(im.data), 0, -1), want)
+
+
+def test_int_round_trip(tmp_path, rng):
+    fx = volsample.to_extinction_fx(random_straight_u8(rng, (20, 18, 26)))
+    levels = vd.pyramid(da.from_array(fx, chunks=(8, 8, 8, 4)), 2, method="extinction_int")
+    path = str(tmp_path / "pyr.ome.zarr")
+    vd.to_ome_zarr(levels, path, method="extinction_int")
+    with open(os.path.join(path, ".zattrs")) as f:
+        attrs = json.load(f)
+    assert attrs["volsample"]["method"] == "extinction_int"
+    assert attrs["volsample"]["channels"][3].startswith("D ")
+    group = zarr.open_group(path, mode="r")
+    want = fx
+    for lvl in range(3):
+        got = np.moveaxis(np.asarray(group[str(lvl)][...]), 0, -1)
+        assert got.dtype == np.uint32
+        np.testing.assert_array_equal(got, want)
+        want = volsample.downsample_level_int(want, "extinction")

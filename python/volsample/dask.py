@@ -13,7 +13,8 @@ before (clamped to the edge). :func:`pyramid` therefore
 
 Inside a block the core computes every kept coarse voxel from the same fine values in the same
 order as on the whole volume, so the result does not depend on the chunking, bit for bit
-(``tests/test_dask.py`` checks several chunkings against :func:`volsample.pyramid`).
+(``tests/test_dask.py`` checks several chunkings against :func:`volsample.pyramid`, and the
+integer methods against :func:`volsample.downsample_level_int` applied level after level).
 
 >>> import dask.array as da, numpy as np, volsample, volsample.dask
 >>> vol = np.random.default_rng(1).integers(0, 256, (20, 24, 28, 4), dtype=np.uint8)
@@ -62,12 +63,24 @@ def _merge_small_last(chunks: tuple[int, ...]) -> tuple[int, ...]:
     return chunks
 
 
+#: The integer methods of :func:`pyramid` and the method of
+#: :func:`volsample.downsample_level_int` each runs, with the dtypes it reads.
+INT_METHODS = {
+    "opacity_int": ("opacity", (np.uint8, np.uint16)),
+    "extinction_int": ("extinction", (np.uint32,)),
+}
+
+
 def _level_kernel(block: np.ndarray, padded: tuple[bool, bool, bool], method: str, a: float,
                   out_shape: tuple[int, int, int]) -> np.ndarray:
     """The coarse voxels of one block: the core's level of the (padded) block, the ones that
     belong to the block kept."""
-    coarse = _volsample.downsample_level(np.ascontiguousarray(block, dtype=np.float32),
-                                         method=method, a=a)
+    if method in INT_METHODS:
+        coarse = _volsample.downsample_level_int(np.ascontiguousarray(block),
+                                                 INT_METHODS[method][0], a=a)
+    else:
+        coarse = _volsample.downsample_level(np.ascontiguousarray(block, dtype=np.float32),
+                                             method=method, a=a)
     sl = tuple(slice(1, 1 + m) if p else slice(0, m) for p, m in zip(padded, out_shape))
     return coarse[sl + (slice(None),)]
 
@@ -90,7 +103,8 @@ def _downsample(arr: Any, method: str, a: float) -> Any:
         return _level_kernel(block, multi, method, a, out_shape)
 
     return da.map_overlap(kernel, arr, depth=depth, boundary="nearest", trim=False,
-                          chunks=out_chunks, dtype=np.float32, meta=np.empty((0, 0, 0, 0), np.float32))
+                          chunks=out_chunks, dtype=arr.dtype,
+                          meta=np.empty((0, 0, 0, 0), arr.dtype))
 
 
 def _to_method_format(arr: Any, method: str, reference_distance: float) -> Any:
@@ -102,7 +116,8 @@ def _to_method_format(arr: Any, method: str, reference_distance: float) -> Any:
         def conv(b: np.ndarray) -> np.ndarray:
             return _volsample.to_associated(np.ascontiguousarray(b))
     else:
-        raise ValueError(f"unknown method {method!r}: expected 'opacity' or 'extinction'")
+        raise ValueError(f"unknown method {method!r}: expected 'opacity', 'extinction', "
+                         "'opacity_int' or 'extinction_int'")
     return arr.map_blocks(conv, dtype=np.float32, meta=np.empty((0, 0, 0, 0), np.float32))
 
 
@@ -120,6 +135,16 @@ def pyramid(array: Any, levels: int, method: str = "extinction", filter: float =
     Returns ``levels + 1`` lazy ``float32`` arrays; each equals, bit for bit,
     :func:`volsample.pyramid` of the whole volume, for any chunking of ``array``.
 
+    The integer methods run the bit-exact integer downsampling
+    (:func:`volsample.downsample_level_int`, ``a`` quantized to Q0.16) and read ``array`` in
+    its integer format, which level 0 is (no conversion): ``"opacity_int"`` associated
+    (premultiplied) ``uint8`` or U8.8 ``uint16`` RGBA (``65280`` = 1), ``"extinction_int"``
+    ``uint32`` ``ExtinctionFx`` voxels ``(D·C r, g, b, D)`` in U7.20 (convert a straight volume
+    block by block: ``arr.map_blocks(volsample.to_extinction_fx, dtype=np.uint32)``). Every
+    level keeps the input's dtype and equals, bit for bit, ``downsample_level_int`` applied
+    level after level to the whole volume, for any chunking (``reference_distance`` is not
+    read: ``to_extinction_fx`` holds the depth of one reference distance).
+
     >>> import dask.array as da, numpy as np, volsample.dask
     >>> vol = da.zeros((16, 16, 16, 4), dtype=np.uint8, chunks=(8, 8, 8, 4))
     >>> [l.shape[:3] for l in volsample.dask.pyramid(vol, 3, method="opacity", filter=0.125)]
@@ -134,14 +159,25 @@ def pyramid(array: Any, levels: int, method: str = "extinction", filter: float =
     arr = da.asarray(array)
     if arr.ndim != 4 or arr.shape[3] != 4:
         raise ValueError("array must have shape (z, y, x, 4)")
-    if arr.dtype not in (np.uint8, np.float32):
+    if method in INT_METHODS:
+        core_method, dtypes = INT_METHODS[method]
+        if arr.dtype not in dtypes:
+            raise ValueError(
+                "method 'opacity_int' reads associated uint8 or U8.8 uint16 voxels"
+                if method == "opacity_int" else
+                "method 'extinction_int' reads uint32 ExtinctionFx voxels "
+                "(convert with volsample.to_extinction_fx)")
+    elif arr.dtype not in (np.uint8, np.float32):
         raise ValueError("array must be uint8 or float32")
     if not (math.isfinite(reference_distance) and reference_distance > 0):
         raise ValueError("reference_distance must be finite and positive")
     mult = 2 ** levels
     chunks = tuple(_aligned_chunks(arr.chunks[i], arr.shape[i], mult) for i in range(3))
     arr = arr.rechunk(chunks + ((4,),))
-    out = [_to_method_format(arr, method, reference_distance)]
+    if method in INT_METHODS:
+        out = [arr]
+    else:
+        out = [_to_method_format(arr, method, reference_distance)]
     for _ in range(levels):
         out.append(_downsample(out[-1], method, float(filter)))
     return out
@@ -160,7 +196,9 @@ def to_ome_zarr(levels: Sequence[Any], path: str, method: str = "extinction",
     centre of the fine voxels it covers). The group's ``volsample`` attribute records the
     method, the filter, the channel meaning, and each level's reference distance: the distance,
     in level-0 voxels, for which its opacities hold (``opacity``) or per which its ``τ`` is
-    given (``extinction``): ``reference_distance·2^ℓ``.
+    given (``extinction``): ``reference_distance·2^ℓ``. The integer methods' levels are
+    written in their integer dtype (``opacity_int``: ``C̃``, ``α`` in bytes or U8.8;
+    ``extinction_int``: ``D·C``, ``D`` in U7.20).
 
     Returns what ``dask.array.store`` returns (``None``, or delayed objects when
     ``compute=False``).
@@ -190,8 +228,10 @@ def to_ome_zarr(levels: Sequence[Any], path: str, method: str = "extinction",
         })
         sources.append(czyx)
         targets.append(target)
-    channels = ["C^tau r", "C^tau g", "C^tau b", "tau"] if method == "extinction" else \
-        ["C~ r", "C~ g", "C~ b", "alpha"]
+    channels = {
+        "extinction": ["C^tau r", "C^tau g", "C^tau b", "tau"],
+        "extinction_int": ["D*C r", "D*C g", "D*C b", "D (U7.20: raw/2^20)"],
+    }.get(method, ["C~ r", "C~ g", "C~ b", "alpha"])
     group.attrs["multiscales"] = [{
         "version": "0.4",
         "name": name,
