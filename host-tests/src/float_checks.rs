@@ -421,20 +421,7 @@ impl FloatCase {
         spec: &RenderSpec,
     ) -> Vec<RefAssoc> {
         let v3 = |v: [f32; 3]| v.map(f64::from);
-        let camera = match spec.camera {
-            CameraSpec::Orthographic(eye, dir, up, extent) => reference::RefCamera::Orthographic {
-                eye: v3(eye),
-                dir: v3(dir),
-                up: v3(up),
-                extent: f64::from(extent),
-            },
-            CameraSpec::Perspective(eye, target, up, fov) => reference::RefCamera::Perspective {
-                eye: v3(eye),
-                target: v3(target),
-                up: v3(up),
-                fov_y: f64::from(fov),
-            },
-        };
+        let camera = ref_camera(spec);
         let mut params = reference::RefRenderParams::new(spec.width, spec.height);
         params.mode = mode.reference();
         params.filter = filter.reference();
@@ -454,5 +441,94 @@ impl FloatCase {
             _ => RefSource::Straight(&straight),
         };
         reference::render_reference(&camera, source, &params)
+    }
+
+    /// `mode` with `filter` rendered by the core and by the reference for `spec`, pixel by
+    /// pixel within [`tolerance::render_pixel_bound`](crate::tolerance::render_pixel_bound),
+    /// every core pixel valid; pixels with a decision within [`RENDER_AMBIGUITY`] of its
+    /// boundary ([`FloatCase::ambiguous_pixel`]) are left out. Returns how many pixels were
+    /// compared and how many left out.
+    ///
+    /// # Errors
+    /// The first pixel out of its bound (or invalid), with both values.
+    ///
+    /// # Panics
+    /// If the core rejects the case (a bad test case).
+    pub fn compare_render(
+        &self,
+        mode: ModeKind,
+        filter: FilterKind,
+        spec: &RenderSpec,
+    ) -> Result<(usize, usize), String> {
+        let core = self.core_render(mode, filter, spec);
+        let want = self.reference_render(mode, filter, spec);
+        let bound = crate::tolerance::render_pixel_bound(self, mode, filter, spec);
+        let (mut compared, mut skipped) = (0, 0);
+        for (k, (c, r)) in core.iter().zip(want.iter()).enumerate() {
+            if !c.is_valid() {
+                return Err(format!("{mode:?} {filter:?} pixel {k}: invalid {c:?}"));
+            }
+            if self.ambiguous_pixel(spec, filter, k % spec.width, k / spec.width) {
+                skipped += 1;
+                continue;
+            }
+            compared += 1;
+            let err = max_abs_diff(*c, *r);
+            if err > bound {
+                return Err(format!(
+                    "{mode:?} {filter:?} pixel {k}: {err:e} > {bound:e}\ncore {c:?}\nref {r:?}"
+                ));
+            }
+        }
+        Ok((compared, skipped))
+    }
+
+    /// `true` when pixel `(i, j)`'s ray has a sample-count or nearest-voxel decision within
+    /// [`RENDER_AMBIGUITY`] of its boundary: the sample count at the ray's ends and the voxel
+    /// `Nearest` picks are discontinuous in the position, so an `f32` and an `f64` ray may
+    /// legitimately disagree there.
+    pub fn ambiguous_pixel(
+        &self,
+        spec: &RenderSpec,
+        filter: FilterKind,
+        i: usize,
+        j: usize,
+    ) -> bool {
+        let ray = reference::camera_ray(&ref_camera(spec), spec.width, spec.height, i, j);
+        let (d, phase) = (f64::from(spec.step), f64::from(spec.phase));
+        let Some((t0, t1)) = reference::clip_ray(self.dims, &ray) else {
+            return false;
+        };
+        let near_integer = |x: f64| (x - x.round()).abs() < RENDER_AMBIGUITY;
+        if near_integer(t0 / d - phase) || near_integer(t1 / d - phase) {
+            return true;
+        }
+        filter == FilterKind::Nearest
+            && reference::sample_positions(self.dims, &ray, d, phase)
+                .iter()
+                .any(|p| p.iter().any(|&x| near_integer(x + 0.5)))
+    }
+}
+
+/// How close (in units of the step) a sample may come to a decision boundary before a pixel
+/// is left out of a render comparison ([`FloatCase::ambiguous_pixel`]).
+pub const RENDER_AMBIGUITY: f64 = 1e-4;
+
+/// The reference's form of `spec`'s camera.
+fn ref_camera(spec: &RenderSpec) -> reference::RefCamera {
+    let v3 = |v: [f32; 3]| v.map(f64::from);
+    match spec.camera {
+        CameraSpec::Orthographic(eye, dir, up, extent) => reference::RefCamera::Orthographic {
+            eye: v3(eye),
+            dir: v3(dir),
+            up: v3(up),
+            extent: f64::from(extent),
+        },
+        CameraSpec::Perspective(eye, target, up, fov) => reference::RefCamera::Perspective {
+            eye: v3(eye),
+            target: v3(target),
+            up: v3(up),
+            fov_y: f64::from(fov),
+        },
     }
 }

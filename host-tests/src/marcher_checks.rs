@@ -12,8 +12,12 @@
 //! - `cast4` packets and `cast_rays` of every length 0 to 9 (each packet tail);
 //! - `render_into` with an orthographic camera against `cast` of each pixel's ray;
 //! - front to back, `cast_counted` against the public per-sample kernel one sample at a time
-//!   (`RayMarcher::sample`, `front_to_back`, `over`).
+//!   (`RayMarcher::sample`, `front_to_back`, `over`);
+//! - for the `f32` storage modes, the image of the fuzzed camera, filter, order, step and
+//!   phase against the f64 reference renderer within the tolerance table's pixel bound
+//!   ([`FloatCase::compare_render`], as the property test `render_matches_reference` holds it).
 
+use crate::float_checks::{CameraSpec, FilterKind, FloatCase, ModeKind, RenderSpec};
 use arbitrary::Arbitrary;
 use volsample::composite::{front_to_back, over, Order, Termination};
 use volsample::mode::{ExtinctionWeightedU8, TauTable};
@@ -63,6 +67,26 @@ fn same(a: &Sample, b: &Sample) -> bool {
             .all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
+/// The input's voxel bytes, cycled to fill a volume of `dims` (zeros if there are none).
+fn straight_u8(inp: &MarcherInput, dims: [usize; 3]) -> Vec<StraightU8> {
+    let n = dims[0] * dims[1] * dims[2];
+    let bytes: Vec<u8> = if inp.voxels.is_empty() {
+        vec![0; 4 * n]
+    } else {
+        inp.voxels.iter().copied().cycle().take(4 * n).collect()
+    };
+    bytes
+        .chunks_exact(4)
+        .map(|c| StraightU8([c[0], c[1], c[2], c[3]]))
+        .collect()
+}
+
+/// `v` in `f32`, each byte over 255.
+fn to_f32(v: StraightU8) -> StraightF32 {
+    let [r, g, b, a] = v.0.map(|n| f32::from(n) / 255.0);
+    StraightF32 { c: [r, g, b], a }
+}
+
 /// A ray from `b` starting outside a box of `dims`, aimed near its centre (`None` for a
 /// direction the core refuses).
 fn ray(b: [u8; 6], dims: [usize; 3]) -> Option<Ray> {
@@ -79,23 +103,8 @@ fn ray(b: [u8; 6], dims: [usize; 3]) -> Option<Ray> {
 /// The first difference found, naming the mode, filter, instruction set and ray.
 pub fn marcher_packets(inp: &MarcherInput) -> Result<(), String> {
     let dims = inp.dims.map(|d| usize::from(d % 5) + 1);
-    let n = dims[0] * dims[1] * dims[2];
-    let bytes: Vec<u8> = if inp.voxels.is_empty() {
-        vec![0; 4 * n]
-    } else {
-        inp.voxels.iter().copied().cycle().take(4 * n).collect()
-    };
-    let u8s: Vec<StraightU8> = bytes
-        .chunks_exact(4)
-        .map(|c| StraightU8([c[0], c[1], c[2], c[3]]))
-        .collect();
-    let f32s: Vec<StraightF32> = u8s
-        .iter()
-        .map(|v| {
-            let [r, g, b, a] = v.0.map(|n| f32::from(n) / 255.0);
-            StraightF32 { c: [r, g, b], a }
-        })
-        .collect();
+    let u8s = straight_u8(inp, dims);
+    let f32s: Vec<StraightF32> = u8s.iter().map(|v| to_f32(*v)).collect();
     let d_ref = 0.25 + f32::from(inp.d_ref) / 128.0;
     let step = Step::new(0.05 + f32::from(inp.step) / 160.0)
         .and_then(|s| s.with_phase(f32::from(inp.phase) / 256.0))
@@ -116,6 +125,7 @@ pub fn marcher_packets(inp: &MarcherInput) -> Result<(), String> {
         };
         Orthographic::new(eye, d, up, back).ok()
     };
+    against_reference(inp)?;
     let f = Family {
         filter: inp.filter % 5,
         stop,
@@ -157,28 +167,8 @@ pub fn marcher_packets(inp: &MarcherInput) -> Result<(), String> {
         }
         _ => {
             let scalars: Vec<f32> = u8s.iter().map(|v| f32::from(v.0[0]) / 255.0).collect();
-            let [a, b, c, d] = u8s
-                .first()
-                .map_or([0; 4], |v| v.0)
-                .map(|x| f32::from(x) / 255.0);
-            let tf = TransferFunction::<3>::new(&[
-                ControlPoint {
-                    s: 0.0,
-                    c: [a, b, c],
-                    a: d,
-                },
-                ControlPoint {
-                    s: 0.4,
-                    c: [1.0, 0.5, 0.2],
-                    a: 0.3,
-                },
-                ControlPoint {
-                    s: 1.0,
-                    c: [1.0; 3],
-                    a: 0.9,
-                },
-            ])
-            .map_err(|e| format!("tf: {e}"))?;
+            let tf =
+                TransferFunction::<3>::new(&tf_points(&u8s)).map_err(|e| format!("tf: {e}"))?;
             f.run(
                 vol(dims, d_ref, &scalars)?,
                 PostClassified::new(&tf),
@@ -186,6 +176,107 @@ pub fn marcher_packets(inp: &MarcherInput) -> Result<(), String> {
             )
         }
     }
+}
+
+/// The transfer function of `PostClassified`: its first point's colour and opacity come from
+/// the first voxel.
+fn tf_points(u8s: &[StraightU8]) -> [ControlPoint; 3] {
+    let [a, b, c, d] = u8s
+        .first()
+        .map_or([0; 4], |v| v.0)
+        .map(|x| f32::from(x) / 255.0);
+    [
+        ControlPoint {
+            s: 0.0,
+            c: [a, b, c],
+            a: d,
+        },
+        ControlPoint {
+            s: 0.4,
+            c: [1.0, 0.5, 0.2],
+            a: 0.3,
+        },
+        ControlPoint {
+            s: 1.0,
+            c: [1.0; 3],
+            a: 0.9,
+        },
+    ]
+}
+
+/// The `f32` storage modes (`inp.mode` 4 to 7) rendered with the fuzzed camera, filter, order,
+/// step and phase, against the f64 reference renderer within
+/// [`render_pixel_bound`](crate::tolerance::render_pixel_bound). As in the property test,
+/// opacities are scaled by 0.9 when `d ≠ d′`, where the bound needs opacity correction well
+/// conditioned.
+///
+/// Returns how many pixels were compared (0 for the other modes and for a camera the core
+/// refuses).
+///
+/// # Errors
+/// The first pixel out of its bound.
+pub fn against_reference(inp: &MarcherInput) -> Result<usize, String> {
+    let mode = match inp.mode % 8 {
+        4 => ModeKind::OpacityWeighted,
+        5 => ModeKind::Separate,
+        6 => ModeKind::ExtinctionWeighted,
+        7 => ModeKind::PostClassified,
+        _ => return Ok(0),
+    };
+    let dims = inp.dims.map(|d| usize::from(d % 5) + 1);
+    let u8s = straight_u8(inp, dims);
+    let mut case = FloatCase {
+        dims,
+        voxels: u8s.iter().map(|v| to_f32(*v)).collect(),
+        scalars: u8s.iter().map(|v| f32::from(v.0[0]) / 255.0).collect(),
+        tf: tf_points(&u8s).to_vec(),
+        d_ref: 0.25 + f32::from(inp.d_ref) / 128.0,
+    };
+    let step = 0.05 + f32::from(inp.step) / 160.0;
+    if step != case.d_ref {
+        for v in &mut case.voxels {
+            v.a *= 0.9;
+        }
+        for p in &mut case.tf {
+            p.a *= 0.9;
+        }
+    }
+    let c = case.dims.map(|n| n as f32 * 0.5 - 0.5);
+    let d = [inp.camera[3], inp.camera[4], inp.camera[5]].map(unit);
+    let len = d.iter().map(|x| x * x).sum::<f32>().sqrt();
+    let back = 2.0 * case.dims.iter().copied().max().unwrap_or(1) as f32;
+    let eye = [0, 1, 2].map(|k| c[k] + unit(inp.camera[k]) - d[k] * back);
+    let up = if d[0].abs() < 0.5 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    // The reference camera takes a unit direction (the core normalises its own).
+    let dir = d.map(|x| x / len);
+    if len == 0.0 || Orthographic::new(eye, dir, up, back).is_err() {
+        return Ok(0);
+    }
+    let threshold = (1.0 + f32::from(inp.stop)) / 256.0;
+    let (filter, a_stop, background, back_to_front) = match inp.filter % 5 {
+        0 => (FilterKind::TrilinearSum, threshold, BG, false),
+        1 => (FilterKind::TrilinearTree, 1.0, Sample::TRANSPARENT, false),
+        2 => (FilterKind::Nearest, threshold, Sample::TRANSPARENT, false),
+        3 => (FilterKind::BSpline, 1.0, Sample::TRANSPARENT, false),
+        _ => (FilterKind::TrilinearSum, 1.0, Sample::TRANSPARENT, true),
+    };
+    let spec = RenderSpec {
+        camera: CameraSpec::Orthographic(eye, dir, up, back),
+        width: 5,
+        height: 3,
+        step,
+        phase: f32::from(inp.phase) / 256.0,
+        background,
+        a_stop,
+        back_to_front,
+    };
+    case.compare_render(mode, filter, &spec)
+        .map(|(compared, _)| compared)
+        .map_err(|e| format!("against the reference: {e}"))
 }
 
 /// `data` as a volume of `dims` with the reference distance `d_ref`.
