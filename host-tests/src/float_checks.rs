@@ -460,7 +460,29 @@ impl FloatCase {
         filter: FilterKind,
         spec: &RenderSpec,
     ) -> Result<(usize, usize), String> {
-        let core = self.core_render(mode, filter, spec);
+        self.compare_image(mode, filter, spec, &self.core_render(mode, filter, spec))
+    }
+
+    /// [`FloatCase::compare_render`] of an image the caller rendered (`core`, row-major,
+    /// `spec.width × spec.height`), for callers that hold their own marcher.
+    ///
+    /// # Errors
+    /// The first pixel out of its bound (or invalid), with both values; a wrong image size.
+    pub fn compare_image(
+        &self,
+        mode: ModeKind,
+        filter: FilterKind,
+        spec: &RenderSpec,
+        core: &[Sample],
+    ) -> Result<(usize, usize), String> {
+        if core.len() != spec.width * spec.height {
+            return Err(format!(
+                "image of {} pixels for {} × {}",
+                core.len(),
+                spec.width,
+                spec.height
+            ));
+        }
         let want = self.reference_render(mode, filter, spec);
         let bound = crate::tolerance::render_pixel_bound(self, mode, filter, spec);
         let (mut compared, mut skipped) = (0, 0);

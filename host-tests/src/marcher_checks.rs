@@ -15,7 +15,7 @@
 //!   (`RayMarcher::sample`, `front_to_back`, `over`);
 //! - for the `f32` storage modes, the image of the fuzzed camera, filter, order, step and
 //!   phase against the f64 reference renderer within the tolerance table's pixel bound
-//!   ([`FloatCase::compare_render`], as the property test `render_matches_reference` holds it).
+//!   ([`FloatCase::compare_image`], as the property test `render_matches_reference` holds it).
 
 use crate::float_checks::{CameraSpec, FilterKind, FloatCase, ModeKind, RenderSpec};
 use arbitrary::Arbitrary;
@@ -208,7 +208,9 @@ fn tf_points(u8s: &[StraightU8]) -> [ControlPoint; 3] {
 /// step and phase, against the f64 reference renderer within
 /// [`render_pixel_bound`](crate::tolerance::render_pixel_bound). As in the property test,
 /// opacities are scaled by 0.9 when `d ≠ d′`, where the bound needs opacity correction well
-/// conditioned.
+/// conditioned. The core's image comes from the marcher types the bit-identity check builds
+/// (the same filter, order, threshold and background), so the fuzz build gains no marcher
+/// instances.
 ///
 /// Returns how many pixels were compared (0 for the other modes and for a camera the core
 /// refuses).
@@ -257,7 +259,8 @@ pub fn against_reference(inp: &MarcherInput) -> Result<usize, String> {
         return Ok(0);
     }
     let threshold = (1.0 + f32::from(inp.stop)) / 256.0;
-    let (filter, a_stop, background, back_to_front) = match inp.filter % 5 {
+    let selector = inp.filter % 5;
+    let (filter, a_stop, background, back_to_front) = match selector {
         0 => (FilterKind::TrilinearSum, threshold, BG, false),
         1 => (FilterKind::TrilinearTree, 1.0, Sample::TRANSPARENT, false),
         2 => (FilterKind::Nearest, threshold, Sample::TRANSPARENT, false),
@@ -274,9 +277,74 @@ pub fn against_reference(inp: &MarcherInput) -> Result<usize, String> {
         a_stop,
         back_to_front,
     };
-    case.compare_render(mode, filter, &spec)
+    let cam = Orthographic::new(eye, dir, up, back).map_err(|e| format!("camera: {e}"))?;
+    let stop = FrontToBack(Threshold::new(threshold).map_err(|e| format!("stop: {e}"))?);
+    let step = Step::new(step)
+        .and_then(|s| s.with_phase(spec.phase))
+        .map_err(|e| format!("step: {e}"))?;
+    let look = Look {
+        selector,
+        stop,
+        step,
+        cam,
+        spec,
+    };
+    // The core's image through the marcher types `Family::run` builds (no further
+    // instances), on the conditioned case's voxels.
+    let d_ref = case.d_ref;
+    let image = match mode {
+        ModeKind::OpacityWeighted => look.image(vol(dims, d_ref, &case.voxels)?, OpacityWeighted),
+        ModeKind::Separate => look.image(vol(dims, d_ref, &case.voxels)?, Separate),
+        ModeKind::ExtinctionWeighted => {
+            look.image(vol(dims, d_ref, &case.extinction())?, ExtinctionWeighted)
+        }
+        _ => {
+            let tf = TransferFunction::<3>::new(&case.tf).map_err(|e| format!("tf: {e}"))?;
+            look.image(vol(dims, d_ref, &case.scalars)?, PostClassified::new(&tf))
+        }
+    }?;
+    case.compare_image(mode, filter, &spec, &image)
         .map(|(compared, _)| compared)
         .map_err(|e| format!("against the reference: {e}"))
+}
+
+/// The camera, filter/order, threshold and step of [`against_reference`].
+struct Look {
+    selector: u8,
+    stop: FrontToBack<Threshold>,
+    step: Step,
+    cam: Orthographic,
+    spec: RenderSpec,
+}
+
+impl Look {
+    /// The image of `mode` on `vol`, through the marcher [`Family::run`] builds for the same
+    /// filter selector.
+    fn image<V: Voxel, M: Mode<V> + Copy>(
+        &self,
+        vol: Volume<'_, V>,
+        mode: M,
+    ) -> Result<Vec<Sample>, String> {
+        let (w, h) = (self.spec.width, self.spec.height);
+        let mut img = vec![Sample::TRANSPARENT; w * h];
+        let (stop, step, ftb) = (self.stop, self.step, FrontToBack::new());
+        let err = |e: volsample::Error| format!("reference image: {e}");
+        match self.selector {
+            0 => RayMarcher::new(vol, mode, Trilinear::new(), stop, step)
+                .and_then(|m| m.with_background(BG))
+                .and_then(|m| m.render_into(&self.cam, w, h, &mut img)),
+            1 => RayMarcher::new(vol, mode, Trilinear::tree(), ftb, step)
+                .and_then(|m| m.render_into(&self.cam, w, h, &mut img)),
+            2 => RayMarcher::new(vol, mode, Nearest, stop, step)
+                .and_then(|m| m.render_into(&self.cam, w, h, &mut img)),
+            3 => RayMarcher::new(vol, mode, TriquadraticBSpline, ftb, step)
+                .and_then(|m| m.render_into(&self.cam, w, h, &mut img)),
+            _ => RayMarcher::new(vol, mode, Trilinear::new(), BackToFront, step)
+                .and_then(|m| m.render_into(&self.cam, w, h, &mut img)),
+        }
+        .map_err(err)?;
+        Ok(img)
+    }
 }
 
 /// `data` as a volume of `dims` with the reference distance `d_ref`.
