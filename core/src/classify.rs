@@ -4,6 +4,7 @@
 //! pre-classifies here (then samples the RGBA result with any mode) or post-classifies
 //! per sample ([`PostClassified`](crate::PostClassified)).
 
+use crate::each::Each;
 use crate::error::Error;
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
@@ -141,7 +142,7 @@ pub(crate) fn scaled_gradient<V: ScalarVoxel>(
         .map(|&(d, e)| libm::frexpf(d).1 + e)
         .max();
     match k {
-        Some(k) => (parts.map(|(d, e)| libm::scalbnf(d, e - k)), k),
+        Some(k) => (parts.each(|(d, e)| libm::scalbnf(d, e - k)), k),
         None => ([0.0; 3], 0),
     }
 }
@@ -158,7 +159,7 @@ pub(crate) fn scaled_gradient<V: ScalarVoxel>(
 /// tests); relative to the component, one rounding (`ε/2`), plus `2⁻¹⁵⁰` where the result is
 /// subnormal (`GRADIENT_EDGE_REL`).
 pub fn gradient<V: ScalarVoxel>(vol: &Volume<'_, V>, x: usize, y: usize, z: usize) -> [f32; 3] {
-    gradient_parts(vol, x, y, z).map(|(d, e)| libm::scalbnf(d, e))
+    gradient_parts(vol, x, y, z).each(|(d, e)| libm::scalbnf(d, e))
 }
 
 fn check_out_len(expected: usize, out: usize) -> Result<(), Error> {

@@ -13,6 +13,7 @@
 //! 1 minus the others, in the order the kernels sum them), so constant data, in particular an
 //! opaque region, is reproduced exactly.
 
+use crate::each::Each;
 use crate::lanes::{pack, unpack, F32x4};
 use crate::mode::{lane_taps, linear_weighted8_f32, pack_interp, tap_columns, LaneVisitor, Mode};
 use crate::num::Num;
@@ -75,7 +76,7 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
         vol: &Volume<'_, V>,
         pos: [[f32; 3]; 4],
     ) -> Interp<F32x4> {
-        pack_interp(pos.map(|p| Self::interpolate(mode, vol, p)))
+        pack_interp(pos.each(|p| Self::interpolate(mode, vol, p)))
     }
 }
 
@@ -115,7 +116,7 @@ impl Filter for Nearest {
         vol: &Volume<'_, V>,
         pos: [f32; 3],
     ) -> Interp<f32> {
-        let [x, y, z] = pos.map(round_half_up);
+        let [x, y, z] = pos.each(round_half_up);
         mode.weighted(&[vol.fetch_clamped(x, y, z)], &[1.0f32])
     }
 }
@@ -349,7 +350,7 @@ impl<O: TrilinearOrder> Trilinear<O> {
             Some(g) => g,
             None => {
                 let (taps, f) = Self::gather_clamped(vol, pos);
-                (taps.map(|v| v.lanes()), f)
+                (taps.each(|v| v.lanes()), f)
             }
         }
     }
@@ -462,7 +463,7 @@ impl Filter for TriquadraticBSpline {
         }
         let [bx, by, bz] = base;
         let [wx, wy, wz] = w;
-        let taps: [V; 27] = core::array::from_fn(|k| {
+        let taps: [V; 27] = crate::each::build(|k| {
             let (dx, dy, dz) = (k % 3, (k / 3) % 3, k / 9);
             vol.fetch_clamped(
                 bx.saturating_add(dx as isize - 1),
@@ -470,7 +471,7 @@ impl Filter for TriquadraticBSpline {
                 bz.saturating_add(dz as isize - 1),
             )
         });
-        let mut weights: [f32; 27] = core::array::from_fn(|k| {
+        let mut weights: [f32; 27] = crate::each::build(|k| {
             let at = |w: &[f32; 3], i: usize| w.get(i).copied().unwrap_or(0.0);
             at(&wx, k % 3) * at(&wy, (k / 3) % 3) * at(&wz, k / 9)
         });

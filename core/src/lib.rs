@@ -59,6 +59,8 @@ pub mod composite;
 #[forbid(unsafe_code)]
 pub mod downsample;
 #[forbid(unsafe_code)]
+mod each;
+#[forbid(unsafe_code)]
 pub mod error;
 #[forbid(unsafe_code)]
 pub mod filter;

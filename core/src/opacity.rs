@@ -13,6 +13,7 @@
 //!   `d = d′`; `Option<Corrected>` (the marchers') chooses per value, so that one march
 //!   serves both.
 
+use crate::each::Each;
 use crate::lanes::Lanes;
 use crate::num::Num;
 use crate::sample::{clamp01, clamped, Interp, Sample};
@@ -124,7 +125,7 @@ const ATANH_SERIES: [f32; 8] = [
 /// IEEE `f32` `+` or `×` (no fused multiply-add), so every lane rounds it as the scalar does.
 #[inline(always)]
 fn psi_series_in<T: Lanes>(a: T) -> T {
-    let [c0, c1, c2, c3, c4, c5, c6, c7] = ATANH_SERIES.map(T::from_f32);
+    let [c0, c1, c2, c3, c4, c5, c6, c7] = ATANH_SERIES.each(T::from_f32);
     let q = T::ONE.div(T::from_f32(2.0) - a);
     let s = a * q;
     let t = s * s;
@@ -200,13 +201,13 @@ fn correct_one(i: Interp<f32>, ratio: f32) -> Interp<f32> {
         // does for `τd ≥ 1`). The gain `ratio·φ(x)·ψ(α)` below would be `∞·0` once `x`
         // overflows (`d/d′ ≳ 10³⁷`, i.e. `d′ → 0`) and turned dense color black.
         return clamped(Interp {
-            c: i.c.map(|c| (c / a) * a_d),
+            c: i.c.each(|c| (c / a) * a_d),
             a: a_d,
         });
     }
     let gain = ratio * phi(x) * psi(a);
     clamped(Interp {
-        c: i.c.map(|c| c * gain),
+        c: i.c.each(|c| c * gain),
         a: a_d,
     })
 }

@@ -3,6 +3,7 @@
 //! Coordinates are voxel units: voxel centres at integers, the volume box `[−½, n − ½]` per
 //! axis. A ray direction is unit length, so ray parameters `t` are distances.
 
+use crate::each::Each;
 use crate::error::Error;
 
 type V3 = [f32; 3];
@@ -46,7 +47,7 @@ fn normalize(a: V3) -> Option<V3> {
     // direction such as `[1e20, 0, 0]` or `[1e-30, 0, 0]` was rejected as invalid.
     let m = a.iter().fold(0.0f32, |m, x| m.max(x.abs()));
     if m > 0.0 {
-        let b = a.map(|x| x / m);
+        let b = a.each(|x| x / m);
         Some(scale(b, 1.0 / norm(b)))
     } else {
         None
@@ -166,7 +167,7 @@ impl Orthographic {
     /// # Errors
     /// None for valid volume dimensions; [`Error::InvalidCamera`] if they overflow `f32`.
     pub fn looking_down_z(dims: [usize; 3]) -> Result<Self, Error> {
-        let [nx, ny, _] = dims.map(|n| n as f32);
+        let [nx, ny, _] = dims.each(|n| n as f32);
         let eye = [nx * 0.5 - 0.5, ny * 0.5 - 0.5, -1.0];
         Self::new(eye, [0.0, 0.0, 1.0], [0.0, -1.0, 0.0], nx)
     }

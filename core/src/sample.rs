@@ -1,5 +1,6 @@
 //! The values that flow between the stages of a kernel.
 
+use crate::each::Each;
 use crate::lanes::{clamp_to, Lanes};
 
 /// An associated (opacity-weighted) color and its opacity: one sample along a ray, or a
@@ -35,7 +36,7 @@ impl Sample {
     /// The straight (displayed) color `C/α`, or black when `α = 0`.
     pub fn straight_color(&self) -> [f32; 3] {
         if self.a > 0.0 {
-            self.c.map(|c| (c / self.a).min(1.0))
+            self.c.each(|c| (c / self.a).min(1.0))
         } else {
             [0.0; 3]
         }

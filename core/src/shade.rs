@@ -4,6 +4,7 @@
 //! A scene without a light skips this stage; with [`Light::UNLIT`] it would be the identity.
 
 use crate::classify::scaled_gradient;
+use crate::each::Each;
 use crate::error::Error;
 use crate::volume::Volume;
 use crate::voxel::{ScalarVoxel, StraightF32};
@@ -51,7 +52,7 @@ impl Light {
         // |s| ∈ [½, √3]: the length neither overflows nor underflows.
         let n = norm(s);
         Ok(Self {
-            dir: s.map(|d| d / n),
+            dir: s.each(|d| d / n),
             ambient,
             diffuse,
         })
@@ -103,7 +104,7 @@ fn unit_scaled(v: [f32; 3]) -> Option<[f32; 3]> {
     let m = v.iter().fold(0.0f32, |m, x| m.max(x.abs()));
     if m > 0.0 {
         let e = libm::frexpf(m).1;
-        Some(v.map(|x| libm::scalbnf(x, -e)))
+        Some(v.each(|x| libm::scalbnf(x, -e)))
     } else {
         None
     }
@@ -136,7 +137,7 @@ pub fn shade_in_place<V: ScalarVoxel>(
         // scalars — near ±f32::MAX or subnormal — loses its direction on the way.
         let (g, _) = scaled_gradient(scalars, x, y, z);
         let k = light.factor_scaled(g.iter().any(|&c| c != 0.0).then_some(g));
-        v.c = v.c.map(|c| (c * k).clamp(0.0, 1.0));
+        v.c = v.c.each(|c| (c * k).clamp(0.0, 1.0));
     }
     Ok(())
 }

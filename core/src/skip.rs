@@ -35,6 +35,7 @@
 
 use core::ops::Range;
 
+use crate::each::Each;
 use crate::error::Error;
 use crate::mode::{
     sealed, ExtinctionWeighted, ExtinctionWeightedU8, OpacityWeighted, Preweighted, Separate,
@@ -206,7 +207,7 @@ impl<'g> Occupancy<'g> {
             actual,
         })?;
         flags.fill(0);
-        let bricks = dims.map(|n| bricks_along(n, log2));
+        let bricks = dims.each(|n| bricks_along(n, log2));
         let [bx, by, _] = bricks;
         // The bricks whose apron range `[b·B − 1, b·B + B + 1]` holds voxel `v`:
         // `⌈(v − B − 1)/B⌉ ..= ⌊(v + 1)/B⌋`, i.e. `(v − 2)/B ..= (v + 1)/B` (clipped).

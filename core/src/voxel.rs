@@ -12,6 +12,7 @@
 //! Opacities are defined for the volume's reference distance `d′`
 //! ([`Volume::reference_distance`](crate::Volume::reference_distance)).
 
+use crate::each::Each;
 use crate::num::Num;
 
 /// Largest extinction coefficient an [`ExtinctionF32`] voxel may hold (per unit length).
@@ -185,7 +186,7 @@ impl Voxel for StraightF32 {
 impl StraightVoxel for StraightF32 {
     #[inline(always)]
     fn straight<T: Num>(self) -> ([T; 3], T) {
-        (self.c.map(T::from_f32), T::from_f32(self.a))
+        (self.c.each(T::from_f32), T::from_f32(self.a))
     }
 }
 
@@ -213,14 +214,14 @@ impl StraightVoxel for StraightU8 {
     fn straight<T: Num>(self) -> ([T; 3], T) {
         let [r, g, b, a] = self.0;
         (
-            [r, g, b].map(|n| T::from_f32(unorm8(n))),
+            [r, g, b].each(|n| T::from_f32(unorm8(n))),
             T::from_f32(unorm8(a)),
         )
     }
 
     #[inline(always)]
     fn straight4(self) -> [f32; 4] {
-        self.0.map(unorm8)
+        self.0.each(unorm8)
     }
 }
 
@@ -238,7 +239,7 @@ impl AssociatedF32 {
     /// The associated form of a straight voxel: `C̃ = α·C`, rounded to `f32`.
     pub fn from_straight(v: StraightF32) -> Self {
         Self {
-            c: v.c.map(|c| c * v.a),
+            c: v.c.each(|c| c * v.a),
             a: v.a,
         }
     }
@@ -265,7 +266,7 @@ impl Voxel for AssociatedF32 {
 impl AssociatedVoxel for AssociatedF32 {
     #[inline(always)]
     fn associated<T: Num>(self) -> ([T; 3], T) {
-        (self.c.map(T::from_f32), T::from_f32(self.a))
+        (self.c.each(T::from_f32), T::from_f32(self.a))
     }
 }
 
@@ -295,7 +296,7 @@ impl AssociatedVoxel for AssociatedU8 {
     fn associated<T: Num>(self) -> ([T; 3], T) {
         let [r, g, b, a] = self.0;
         (
-            [r, g, b].map(|n| T::from_f32(unorm8(n))),
+            [r, g, b].each(|n| T::from_f32(unorm8(n))),
             T::from_f32(unorm8(a)),
         )
     }
@@ -333,7 +334,7 @@ impl ExtinctionF32 {
         };
         let tau = if tau.is_nan() { 0.0 } else { tau.max(0.0) };
         Self {
-            c_tau: v.c.map(|c| (tau * c).min(tau)),
+            c_tau: v.c.each(|c| (tau * c).min(tau)),
             tau,
         }
     }
@@ -376,7 +377,7 @@ impl ExtinctionF32 {
 impl ExtinctionVoxel for ExtinctionF32 {
     #[inline(always)]
     fn extinction<T: Num>(self) -> ([T; 3], T) {
-        (self.c_tau.map(T::from_f32), T::from_f32(self.tau))
+        (self.c_tau.each(T::from_f32), T::from_f32(self.tau))
     }
 }
 

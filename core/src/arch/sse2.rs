@@ -29,6 +29,7 @@
 
 use core::arch::x86_64::*;
 
+use crate::each::Each;
 use crate::voxel::StraightU8;
 
 /// `(q·DIV255_MAGIC) >> DIV255_SHIFT = ⌊q/255⌋` for every `q < 2^32`.
@@ -54,7 +55,7 @@ pub(crate) fn opacity_weighted_trilinear<const F: u32>(
 #[target_feature(enable = "sse2")]
 fn kernel<const F: u32>(taps: &[StraightU8; 8], frac: [u32; 3]) -> [u16; 4] {
     let one = 1i32 << F;
-    let [fx, fy, fz] = frac.map(|f| (f as i32) & (one - 1));
+    let [fx, fy, fz] = frac.each(|f| (f as i32) & (one - 1));
     let word = |v: StraightU8| i32::from_le_bytes(v.0);
     let [t0, t1, t2, t3, t4, t5, t6, t7] = *taps;
     let lo = _mm_setr_epi32(word(t0), word(t1), word(t2), word(t3));

@@ -1,6 +1,7 @@
 //! Extinction-based downsampling: filter `τ` and `C^τ`; the coarse voxel is twice as long.
 
 use super::{sealed, Method};
+use crate::each::Each;
 use crate::lanes::clamp_to;
 use crate::voxel::{ExtinctionF32, MAX_TAU};
 
@@ -45,7 +46,7 @@ impl Method for ExtinctionBased {
         let [r, g, b, tau] = f;
         let tau = clamp_to(2.0 * tau, MAX_TAU);
         ExtinctionF32 {
-            c_tau: [r, g, b].map(|c| clamp_to(2.0 * c, tau)),
+            c_tau: [r, g, b].each(|c| clamp_to(2.0 * c, tau)),
             tau,
         }
     }

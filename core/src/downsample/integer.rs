@@ -77,6 +77,7 @@
 //! ```
 
 use super::{chain_len, level_count, level_dims, level_offset, sealed, voxel_count, Filter4};
+use crate::each::Each;
 use crate::error::Error;
 use crate::fixed_point::extinction::{ExtinctionFx, MAX_DEPTH_RAW};
 use crate::fixed_point::{round_half_up_div, IntSample, ONE};
@@ -248,7 +249,7 @@ fn opacity_finish(sums: [u128; 4], full: u64) -> ([u64; 3], u64) {
     let den = full << (2 * GUARD_BITS);
     // ᾱ_g·gain ≤ full_g² < 2^48: exact in `round_half_up_div`.
     let a2 = round_half_up_div(a_g * gain, den);
-    let c2 = [r, g, b].map(|c| round_half_up_div(to_g(c).min(a_g) * gain, den));
+    let c2 = [r, g, b].each(|c| round_half_up_div(to_g(c).min(a_g) * gain, den));
     (c2, a2)
 }
 
@@ -284,7 +285,7 @@ impl IntMethod<IntSample> for IntOpacityBased {
         let (c, a) = opacity_finish(sums, u64::from(ONE));
         // C̃′ ≤ α′ ≤ ONE by construction (module docs); `min` keeps the casts lossless.
         let h = |x: u64| x.min(u64::from(ONE)) as u16;
-        IntSample::from_valid(c.map(h), h(a))
+        IntSample::from_valid(c.each(h), h(a))
     }
 }
 
@@ -303,7 +304,7 @@ impl IntMethod<ExtinctionFx> for IntExtinctionBased {
     #[inline(always)]
     fn channels(v: ExtinctionFx) -> [u128; 4] {
         let t = v.tau.min(MAX_DEPTH_RAW);
-        let [r, g, b] = v.c_tau.map(|c| u128::from(c.min(t)));
+        let [r, g, b] = v.c_tau.each(|c| u128::from(c.min(t)));
         [r, g, b, u128::from(t)]
     }
 
@@ -413,8 +414,8 @@ fn filter_level<V: Copy, M: IntMethod<V>>(
         let zs = axis_taps(row / oy.max(1), nz);
         for (x, out) in out_row.iter_mut().enumerate() {
             let xs = axis_taps(x, nx);
-            let planes =
-                zs.map(|z| filter.combine(ys.map(|y| filter.combine(xs.map(|x| fetch(x, y, z))))));
+            let planes = zs
+                .each(|z| filter.combine(ys.each(|y| filter.combine(xs.each(|x| fetch(x, y, z))))));
             *out = M::finish(filter.combine(planes));
         }
     }

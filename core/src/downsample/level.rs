@@ -1,6 +1,7 @@
 //! One pyramid level: the separable 4-tap filter over a whole volume.
 
 use super::{level_dims, voxel_count, Filter4, Method};
+use crate::each::Each;
 use crate::error::Error;
 use crate::volume::Volume;
 use crate::voxel::Voxel;
@@ -75,8 +76,8 @@ pub(crate) fn filter_level<M: Method>(
         let zs = axis_taps(row / oy.max(1), nz);
         for (x, out) in out_row.iter_mut().enumerate() {
             let xs = axis_taps(x, nx);
-            let planes =
-                zs.map(|z| filter.combine(ys.map(|y| filter.combine(xs.map(|x| fetch(x, y, z))))));
+            let planes = zs
+                .each(|z| filter.combine(ys.each(|y| filter.combine(xs.each(|x| fetch(x, y, z))))));
             *out = M::finish(filter.combine(planes));
         }
     }

@@ -1,5 +1,6 @@
 //! Sampling one level of a mipmap chain in level-0 (fine) units.
 
+use crate::each::Each;
 use crate::filter::Filter;
 use crate::mode::Mode;
 use crate::opacity::correct;
@@ -47,13 +48,13 @@ impl<'a, V: Voxel> MipLevel<'a, V> {
     /// Error bound: two roundings, within `ε·(|p|/2^ℓ + 1)` (`ε = 2⁻²³`).
     pub fn to_level(&self, p: [f32; 3]) -> [f32; 3] {
         let inv = libm::ldexpf(1.0, -(self.level as i32));
-        p.map(|x| (x + 0.5) * inv - 0.5)
+        p.each(|x| (x + 0.5) * inv - 0.5)
     }
 
     /// The level-0 position of the level position `q`: `(q + ½)·2^ℓ − ½` per axis.
     pub fn to_fine(&self, q: [f32; 3]) -> [f32; 3] {
         let s = self.scale();
-        q.map(|x| (x + 0.5) * s - 0.5)
+        q.each(|x| (x + 0.5) * s - 0.5)
     }
 
     /// The level's reference distance in level-0 voxels: `2^ℓ·d′`.

@@ -1,6 +1,7 @@
 //! Opacity-based downsampling: filter `α` and `C̃`, then correct for the doubled distance.
 
 use super::{sealed, Method};
+use crate::each::Each;
 use crate::lanes::clamp_to;
 use crate::voxel::AssociatedF32;
 
@@ -45,7 +46,7 @@ impl Method for OpacityBased {
         let gain = 2.0 - a;
         let a2 = (a * gain).min(1.0);
         AssociatedF32 {
-            c: [r, g, b].map(|c| (clamp_to(c, a) * gain).min(a2)),
+            c: [r, g, b].each(|c| (clamp_to(c, a) * gain).min(a2)),
             a: a2,
         }
     }

@@ -70,6 +70,7 @@ pub use weights::{nearest_index, trilinear_weights, IntWeights};
 
 pub(crate) use lanes8::{IntLaneMode, IntLaneVisitor};
 
+use crate::each::Each;
 use crate::error::Error;
 use crate::filter::{Nearest, Trilinear, WeightedSum};
 use crate::sample::Sample;
@@ -256,7 +257,7 @@ impl<const F: u32> IntPos<F> {
     /// The position as `f32` voxel coordinates (exact below `2^(24−F)` voxels).
     pub fn to_f32(&self) -> [f32; 3] {
         let s = 1.0 / (1u32 << F) as f32;
-        self.raw.map(|r| r as f32 * s)
+        self.raw.each(|r| r as f32 * s)
     }
 }
 
@@ -334,7 +335,7 @@ impl IntSample {
     pub fn to_f32(&self) -> Sample {
         let s = |x: u16| (f64::from(x) / f64::from(ONE)) as f32;
         Sample {
-            c: self.c.map(s),
+            c: self.c.each(s),
             a: s(self.a),
         }
     }
@@ -460,7 +461,7 @@ impl IntFilter for Nearest {
 
     #[inline(always)]
     fn fetch<V: Voxel, const F: u32>(vol: &Volume<'_, V>, pos: IntPos<F>) -> [V; 1] {
-        let [x, y, z] = pos.raw().map(|r| to_isize(nearest_index::<F>(r)));
+        let [x, y, z] = pos.raw().each(|r| to_isize(nearest_index::<F>(r)));
         [vol.fetch_clamped(x, y, z)]
     }
 
@@ -491,11 +492,11 @@ impl IntFilter for Trilinear<WeightedSum> {
         // Interior fast path: the whole cell inside the grid, no clamps (same taps).
         let [xi, yi, zi] = pos
             .index()
-            .map(|i| usize::try_from(i).unwrap_or(usize::MAX));
+            .each(|i| usize::try_from(i).unwrap_or(usize::MAX));
         if let Some(taps) = vol.cell(xi, yi, zi) {
             return taps;
         }
-        let [x, y, z] = pos.index().map(to_isize);
+        let [x, y, z] = pos.index().each(to_isize);
         vol.cell_clamped(x, y, z)
     }
 

@@ -4,6 +4,7 @@ use super::{
     channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums,
     LaneMode, LaneVisitor, Linear, Mode, StoredF32x4,
 };
+use crate::each::Each;
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::opacity::{phi_poly_in, PHI_POLY_BELOW};
@@ -45,12 +46,12 @@ impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
-        linear_weighted(&taps.map(|v| v.extinction::<T>()), w)
+        linear_weighted(&taps.each(|v| v.extinction::<T>()), w)
     }
 
     #[inline(always)]
     fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
-        let u = taps.map(|v| {
+        let u = taps.each(|v| {
             let ([r, g, b], a) = v.extinction::<f32>();
             [r, g, b, a]
         });
@@ -59,7 +60,7 @@ impl<V: ExtinctionVoxel> Mode<V> for ExtinctionWeighted {
 
     #[inline(always)]
     fn tree8<T: Num>(&self, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
-        linear_tree(&taps.map(|v| v.extinction::<T>()), f)
+        linear_tree(&taps.each(|v| v.extinction::<T>()), f)
     }
 
     #[inline(always)]
@@ -131,7 +132,7 @@ pub fn integrate_step(c_tau: [f32; 3], tau: f32, d: f32) -> Sample {
         below_one(c_tau, x, d).into()
     } else {
         let a = -libm::expm1f(-x);
-        Sample::clamped(c_tau.map(|c| (c / tau) * a), a)
+        Sample::clamped(c_tau.each(|c| (c / tau) * a), a)
     }
 }
 

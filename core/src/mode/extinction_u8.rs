@@ -4,6 +4,7 @@ use super::{
     channels_x4, integrate_step, linear_tree, linear_weighted, linear_weighted8_f32, sealed,
     weighted_sums, LaneMode, LaneVisitor, Linear, Mode, TauOfAlpha8,
 };
+use crate::each::Each;
 use crate::error::Error;
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
@@ -87,7 +88,7 @@ impl TauTable {
             // most `τ` (rounding is monotone and `τ` is representable), so leaving it out
             // changes no bit (checked for every byte pair in the host tests) and saves
             // three `min`s a tap.
-            c_tau: [r, g, b].map(|c| tau * unorm8(c)),
+            c_tau: [r, g, b].each(|c| tau * unorm8(c)),
             tau,
         }
     }
@@ -141,7 +142,7 @@ impl<'t> ExtinctionWeightedU8<'t> {
     #[inline(always)]
     fn channels<T: Num>(&self, v: StraightU8) -> ([T; 3], T) {
         let e = self.table.extinction(v);
-        (e.c_tau.map(T::from_f32), T::from_f32(e.tau))
+        (e.c_tau.each(T::from_f32), T::from_f32(e.tau))
     }
 }
 
@@ -157,12 +158,12 @@ impl Mode<StraightU8> for ExtinctionWeightedU8<'_> {
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[StraightU8; K], w: &[T; K]) -> Interp<T> {
-        linear_weighted(&taps.map(|v| self.channels::<T>(v)), w)
+        linear_weighted(&taps.each(|v| self.channels::<T>(v)), w)
     }
 
     #[inline(always)]
     fn weighted8_f32(&self, taps: &[StraightU8; 8], w: &[f32; 8]) -> Interp<f32> {
-        let u = taps.map(|v| {
+        let u = taps.each(|v| {
             let e = self.table.extinction(v);
             [e.c_tau[0], e.c_tau[1], e.c_tau[2], e.tau]
         });
@@ -171,7 +172,7 @@ impl Mode<StraightU8> for ExtinctionWeightedU8<'_> {
 
     #[inline(always)]
     fn tree8<T: Num>(&self, taps: &[StraightU8; 8], f: [T; 3]) -> Interp<T> {
-        linear_tree(&taps.map(|v| self.channels::<T>(v)), f)
+        linear_tree(&taps.each(|v| self.channels::<T>(v)), f)
     }
 
     #[inline(always)]

@@ -30,6 +30,7 @@ pub use post_classified::PostClassified;
 pub use preweighted::Preweighted;
 pub use separate::Separate;
 
+use crate::each::Each;
 pub(crate) use lanes8::{
     ByOpacity, LaneCorrection, LaneMode, LaneVisitor, LaneVoxel, Linear, StoredF32x4, TauOfAlpha8,
     Unorm8, Weighting,
@@ -161,7 +162,7 @@ pub(crate) fn tap_columns<V: Copy>(cells: [[V; 8]; 4]) -> [[V; 4]; 8] {
 /// Four `Interp<f32>` packed into lanes.
 #[inline(always)]
 pub(crate) fn pack_interp(lanes: [Interp<f32>; 4]) -> Interp<F32x4> {
-    let [c0, c1, c2, a] = pack(lanes.map(|x| [x.c[0], x.c[1], x.c[2], x.a]));
+    let [c0, c1, c2, a] = pack(lanes.each(|x| [x.c[0], x.c[1], x.c[2], x.a]));
     Interp { c: [c0, c1, c2], a }
 }
 
@@ -169,7 +170,7 @@ pub(crate) fn pack_interp(lanes: [Interp<f32>; 4]) -> Interp<F32x4> {
 #[inline(always)]
 pub(crate) fn unpack_interp(i: Interp<F32x4>) -> [Interp<f32>; 4] {
     let [c0, c1, c2] = i.c;
-    unpack([c0, c1, c2, i.a]).map(|[c0, c1, c2, a]| Interp { c: [c0, c1, c2], a })
+    unpack([c0, c1, c2, i.a]).each(|[c0, c1, c2, a]| Interp { c: [c0, c1, c2], a })
 }
 
 /// One tap column of a packet as lanes: `f` of each lane's voxel, `(c, a)` packed.
@@ -247,7 +248,7 @@ pub(crate) fn dot_lanes8(w: &[f32; 8], u: &[[f32; 4]; 8]) -> [f32; 4] {
     let mut it = w.iter().zip(u.iter()).rev();
     let mut acc = [0.0f32; 4];
     if let Some((w7, u7)) = it.next() {
-        acc = u7.map(|x| *w7 * x);
+        acc = u7.each(|x| *w7 * x);
     }
     for (w, u) in it {
         for (a, x) in acc.iter_mut().zip(u.iter()) {
@@ -298,10 +299,10 @@ pub(crate) fn linear_weighted<T: Num, const K: usize>(
 pub(crate) fn linear_tree<T: Num>(ch: &[([T; 3], T); 8], f: [T; 3]) -> Interp<T> {
     Interp {
         c: [
-            lerp8(ch.map(|v| v.0[0]), f),
-            lerp8(ch.map(|v| v.0[1]), f),
-            lerp8(ch.map(|v| v.0[2]), f),
+            lerp8(ch.each(|v| v.0[0]), f),
+            lerp8(ch.each(|v| v.0[1]), f),
+            lerp8(ch.each(|v| v.0[2]), f),
         ],
-        a: lerp8(ch.map(|v| v.1), f),
+        a: lerp8(ch.each(|v| v.1), f),
     }
 }

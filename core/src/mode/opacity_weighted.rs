@@ -4,6 +4,7 @@ use super::{
     channels_x4, dot_lanes8, lerp8, sealed, weighted_sums, ByOpacity, LaneMode, LaneVisitor, Mode,
     Unorm8,
 };
+use crate::each::Each;
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{clamped, Interp, Sample};
@@ -73,17 +74,17 @@ impl<V: StraightVoxel> Mode<V> for OpacityWeighted {
     #[inline(always)]
     fn tree8<T: Num>(&self, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
         // Premultiply the 8 voxel colors (24M), then lerp C̃ and α (28M 56A).
-        let ch = taps.map(|v| {
+        let ch = taps.each(|v| {
             let (c, a) = v.straight::<T>();
-            (c.map(|c| c * a), a)
+            (c.each(|c| c * a), a)
         });
         Interp {
             c: [
-                lerp8(ch.map(|v| v.0[0]), f),
-                lerp8(ch.map(|v| v.0[1]), f),
-                lerp8(ch.map(|v| v.0[2]), f),
+                lerp8(ch.each(|v| v.0[0]), f),
+                lerp8(ch.each(|v| v.0[1]), f),
+                lerp8(ch.each(|v| v.0[2]), f),
             ],
-            a: lerp8(ch.map(|v| v.1), f),
+            a: lerp8(ch.each(|v| v.1), f),
         }
     }
 

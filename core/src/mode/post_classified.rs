@@ -1,6 +1,7 @@
 //! `PostClassified`: interpolate the scalar, then classify.
 
 use super::{lerp8, sealed, weighted_sums, Linear, Mode};
+use crate::each::Each;
 use crate::num::Num;
 use crate::sample::{Interp, Sample};
 use crate::transfer::TransferFunction;
@@ -44,13 +45,13 @@ impl<V: ScalarVoxel, const N: usize> Mode<V> for PostClassified<'_, N> {
     fn tree8<T: Num>(&self, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
         Interp {
             c: [T::ZERO; 3],
-            a: lerp8(taps.map(|v| v.scalar::<T>()), f),
+            a: lerp8(taps.each(|v| v.scalar::<T>()), f),
         }
     }
 
     #[inline(always)]
     fn finish(&self, i: Interp<f32>, _d: f32) -> Sample {
         let (c, a) = self.tf.eval(i.a);
-        Sample::clamped(c.map(|c| c * a), a)
+        Sample::clamped(c.each(|c| c * a), a)
     }
 }

@@ -4,6 +4,7 @@ use super::{
     channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums, Linear,
     Mode,
 };
+use crate::each::Each;
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{clamped, Interp, Sample};
@@ -28,12 +29,12 @@ impl<V: AssociatedVoxel> Mode<V> for Preweighted {
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
-        linear_weighted(&taps.map(|v| v.associated::<T>()), w)
+        linear_weighted(&taps.each(|v| v.associated::<T>()), w)
     }
 
     #[inline(always)]
     fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
-        let u = taps.map(|v| {
+        let u = taps.each(|v| {
             let ([r, g, b], a) = v.associated::<f32>();
             [r, g, b, a]
         });
@@ -42,7 +43,7 @@ impl<V: AssociatedVoxel> Mode<V> for Preweighted {
 
     #[inline(always)]
     fn tree8<T: Num>(&self, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
-        linear_tree(&taps.map(|v| v.associated::<T>()), f)
+        linear_tree(&taps.each(|v| v.associated::<T>()), f)
     }
 
     #[inline(always)]

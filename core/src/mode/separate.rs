@@ -4,6 +4,7 @@ use super::{
     channels_x4, linear_tree, linear_weighted, linear_weighted8_f32, sealed, weighted_sums,
     LaneMode, LaneVisitor, Linear, Mode, Unorm8,
 };
+use crate::each::Each;
 use crate::lanes::{F32x4, Lanes};
 use crate::num::Num;
 use crate::sample::{clamped, Interp, Sample};
@@ -34,17 +35,17 @@ impl<V: StraightVoxel> Mode<V> for Separate {
 
     #[inline(always)]
     fn weighted<T: Num, const K: usize>(&self, taps: &[V; K], w: &[T; K]) -> Interp<T> {
-        linear_weighted(&taps.map(|v| v.straight::<T>()), w)
+        linear_weighted(&taps.each(|v| v.straight::<T>()), w)
     }
 
     #[inline(always)]
     fn weighted8_f32(&self, taps: &[V; 8], w: &[f32; 8]) -> Interp<f32> {
-        linear_weighted8_f32(&taps.map(|v| v.straight4()), w)
+        linear_weighted8_f32(&taps.each(|v| v.straight4()), w)
     }
 
     #[inline(always)]
     fn tree8<T: Num>(&self, taps: &[V; 8], f: [T; 3]) -> Interp<T> {
-        linear_tree(&taps.map(|v| v.straight::<T>()), f)
+        linear_tree(&taps.each(|v| v.straight::<T>()), f)
     }
 
     #[inline(always)]

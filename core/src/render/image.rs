@@ -76,7 +76,7 @@ fn trace_rows8<P, Cam: Camera>(
             let i0 = 8 * k;
             // A short last chunk repeats its last pixel's ray; only `px.len()` are cast.
             let rays: [Ray; 8] =
-                core::array::from_fn(|l| camera.ray((i0 + l).min(width - 1), j, width, height));
+                crate::each::build(|l| camera.ray((i0 + l).min(width - 1), j, width, height));
             let rays = rays.get(..px.len()).unwrap_or(&rays);
             cast_rays(rays, px)?;
         }

@@ -25,6 +25,7 @@
 
 use super::{check_len, render_image, Step, MAX_SAMPLES_PER_RAY};
 use crate::arch::{in_isa, Isa};
+use crate::each::Each;
 use crate::error::Error;
 use crate::fixed_point::composite::{front_to_back, IntStop};
 use crate::fixed_point::DEFAULT_FRAC_BITS;
@@ -125,7 +126,7 @@ where
     ) -> Result<Self, Error> {
         check_frac_bits!(F);
         let dims = volume.dims();
-        let [nx, ny, nz] = dims.map(|n| n as f32);
+        let [nx, ny, nz] = dims.each(|n| n as f32);
         let diag = libm::sqrtf(nx * nx + ny * ny + nz * nz);
         if diag / step.d() + 2.0 > MAX_SAMPLES_PER_RAY as f32 {
             return Err(Error::TooManySamples);
@@ -143,7 +144,7 @@ where
         Ok(Self {
             sampler: IntSampler::new(volume, mode, filter),
             dims,
-            hi: dims.map(|n| (n - 1) as f32),
+            hi: dims.each(|n| (n - 1) as f32),
             step,
             stop,
             background: IntSample::TRANSPARENT,

@@ -20,6 +20,7 @@ use core::marker::PhantomData;
 
 use crate::arch::{in_isa, Isa};
 use crate::composite::{back_to_front, front_to_back, front_to_back_in, over, Order, Termination};
+use crate::each::Each;
 use crate::error::Error;
 use crate::filter::Filter;
 use crate::lanes::F32x4;
@@ -100,7 +101,7 @@ where
         order: O,
         step: Step,
     ) -> Result<Self, Error> {
-        let [nx, ny, nz] = volume.dims().map(|n| n as f32);
+        let [nx, ny, nz] = volume.dims().each(|n| n as f32);
         let diag = libm::sqrtf(nx * nx + ny * ny + nz * nz);
         if diag / step.d + 2.0 > MAX_SAMPLES_PER_RAY as f32 {
             return Err(Error::TooManySamples);
@@ -328,8 +329,8 @@ where
             // after an early stop are computed and dropped.
             while end.saturating_sub(j0) >= 4 {
                 let pos: [[f32; 3]; 4] =
-                    core::array::from_fn(|l| ray.at(t_first + (j0 + l as u32) as f32 * d));
-                let keep = pos.map(|p| !self.skip.empty(p));
+                    crate::each::build(|l| ray.at(t_first + (j0 + l as u32) as f32 * d));
+                let keep = pos.each(|p| !self.skip.empty(p));
                 if keep.iter().any(|&k| k) {
                     let i = F::interpolate_x4(&self.mode, &self.volume, pos);
                     let s = unpack_interp(corr.apply_in(self.mode.finish_in(i, d)));
@@ -397,7 +398,7 @@ where
     #[inline(always)]
     fn cast4_here(&self, rays: &[Ray; 4]) -> [(Sample, u32); 4] {
         if !O::FRONT_TO_BACK || !F::PACKETS {
-            return rays.each_ref().map(|r| self.cast_counted_here(r));
+            return rays.each_ref().each(|r| self.cast_counted_here(r));
         }
         let (acc, n) = if M::OPACITY_BASED {
             self.march4(rays, &self.correction)
@@ -446,7 +447,7 @@ where
         let mut o4 = out.chunks_exact_mut(4);
         for (r, o) in (&mut r4).zip(&mut o4) {
             if let (Ok(r), Ok(o)) = (<&[Ray; 4]>::try_from(r), <&mut [Sample; 4]>::try_from(o)) {
-                *o = self.cast4_here(r).map(|x| x.0);
+                *o = self.cast4_here(r).each(|x| x.0);
             }
         }
         for (r, o) in r4.remainder().iter().zip(o4.into_remainder()) {

@@ -5,6 +5,7 @@
 use super::*;
 #[cfg(target_arch = "x86_64")]
 use crate::arch::avx2::{Samples, Stage};
+use crate::each::Each;
 #[cfg(target_arch = "x86_64")]
 use crate::mode::{LaneCorrection, LaneMode, LaneVisitor};
 
@@ -123,8 +124,8 @@ where
         rays: &[Ray; 4],
         corr: &C,
     ) -> ([Sample; 4], [u32; 4]) {
-        let ranges = rays.each_ref().map(|r| self.samples(r));
-        let n = ranges.map(|r| r.1);
+        let ranges = rays.each_ref().each(|r| self.samples(r));
+        let n = ranges.each(|r| r.1);
         let d = self.step.d;
         let term = self.order.termination();
         let mut acc = Interp {
@@ -132,7 +133,7 @@ where
             a: F32x4::ZERO,
         };
         let mut count = n;
-        let mut live = n.map(|k| k > 0);
+        let mut live = n.each(|k| k > 0);
         let mut j = 0u32;
         while live.iter().any(|&l| l) {
             let jd = j as f32 * d;
@@ -181,7 +182,7 @@ where
                 break;
             }
         }
-        let mut samples = unpack_interp(acc).map(|x| Sample { c: x.c, a: x.a });
+        let mut samples = unpack_interp(acc).each(|x| Sample { c: x.c, a: x.a });
         // The last ray still going (rays of a packet differ in length) finishes one sample at
         // a time, from the sample and the `acc` it reached: the same operations as in its
         // lane, without carrying three idle lanes through its remaining samples.
@@ -231,7 +232,7 @@ where
         in_packets(self.rays, self.out, |r| {
             let samples = Samples::packet(r, |r| m.samples(r), |r, s| m.skip.occupied(r, s, d));
             let acc = march8::<K::Voxel, K>(self.cpu, &vol, r, &samples, stage);
-            acc.map(|a| over(a, m.background))
+            acc.each(|a| over(a, m.background))
         })
     }
 }

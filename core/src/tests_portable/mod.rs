@@ -6,6 +6,8 @@
 //!
 //! On x86-64 the integer `OpacityWeighted` trilinear sample goes through the SSE2 kernel
 //! (`arch::sse2`), so its test here also runs that kernel's `unsafe` entry under Miri.
+// Tests may map arrays the standard way (`core/clippy.toml` is about the kernels' IR).
+#![allow(clippy::disallowed_methods)]
 
 use crate::arch::Isa;
 use crate::composite::{back_to_front, front_to_back, over};

@@ -3,6 +3,7 @@
 use core::arch::x86_64::*;
 
 use super::*;
+use crate::each::Each;
 
 /// [`march8`] in AVX2, of the kind `K` ([`Kind`]); where `REUSE` (parallel rays), the taps'
 /// channels kept as faces across axis `A` ([`Cell`]) and the voxels ahead prefetched.
@@ -41,11 +42,11 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
         corr,
     } = stage;
     let data = vol.data();
-    let [nx, ny, nz] = vol.dims().map(|n| n as i32);
+    let [nx, ny, nz] = vol.dims().each(|n| n as i32);
     // Per axis: (origin, direction, last voxel index, `n` as `f32`).
     let (org, dir) = (
-        rays.each_ref().map(Ray::origin),
-        rays.each_ref().map(Ray::dir),
+        rays.each_ref().each(Ray::origin),
+        rays.each_ref().each(Ray::dir),
     );
     let lead = PREFETCH_STEPS * d;
     let axis = |o: [f32; LANES], d: [f32; LANES], n: i32| {
@@ -58,13 +59,13 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
         )
     };
     let axes = [
-        axis(org.map(|o| o[0]), dir.map(|d| d[0]), nx),
-        axis(org.map(|o| o[1]), dir.map(|d| d[1]), ny),
-        axis(org.map(|o| o[2]), dir.map(|d| d[2]), nz),
+        axis(org.each(|o| o[0]), dir.each(|d| d[0]), nx),
+        axis(org.each(|o| o[1]), dir.each(|d| d[1]), ny),
+        axis(org.each(|o| o[2]), dir.each(|d| d[2]), nz),
     ];
-    let t0 = lanes(ranges.map(|r| r.0));
+    let t0 = lanes(ranges.each(|r| r.0));
     // Per lane, the steps it takes.
-    let count = ranges.map(|r| r.1.saturating_sub(first));
+    let count = ranges.each(|r| r.1.saturating_sub(first));
     // (With `ONE`, every range is the one ray's: its last sample marched, and how many.)
     let [(_, end), ..] = *ranges;
     let samples = end.saturating_sub(first);
@@ -73,7 +74,7 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
     } else {
         count.iter().copied().max().unwrap_or(0)
     };
-    let [c0, c1, c2, c3, c4, c5, c6, c7] = count.map(|c| c as i32);
+    let [c0, c1, c2, c3, c4, c5, c6, c7] = count.each(|c| c as i32);
     let count = _mm256_setr_epi32(c0, c1, c2, c3, c4, c5, c6, c7);
 
     let dv = _mm256_set1_ps(d);

@@ -12,6 +12,7 @@
 use core::arch::x86_64::*;
 
 use super::*;
+use crate::each::Each;
 use crate::mode::{LaneMode, StoredF32x4, TauOfAlpha8, Unorm8};
 use crate::opacity::Correction;
 
@@ -506,7 +507,7 @@ impl Kind for IntOw {
             let x = IntSample::from_valid([narrow(r), narrow(g), narrow(b)], narrow(a));
             s = int_front_to_back(s, x);
         }
-        let [r, g, b] = s.c().map(i32::from);
+        let [r, g, b] = s.c().each(i32::from);
         *acc = [r, g, b, i32::from(s.a())];
         if stop.is_none() && k0 + LANES as u32 > ends.0 {
             stop = Some(Self::ran_out(acc, ends, a_stop));

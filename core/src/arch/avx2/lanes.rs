@@ -4,6 +4,7 @@
 use core::arch::x86_64::*;
 
 use super::*;
+use crate::each::Each;
 
 /// Eight `f32` lanes from an array.
 #[inline]
@@ -238,17 +239,17 @@ impl crate::lanes::Lanes for F32x8 {
 
     #[inline(always)]
     fn per_lane(x: [Self; 4], f: impl Fn([f32; 4]) -> [f32; 4]) -> [Self; 4] {
-        let x = x.map(F32x8::to_array);
+        let x = x.each(F32x8::to_array);
         let mut out = [[0.0f32; LANES]; 4];
         for l in 0..LANES {
-            let lane = x.map(|v| v.get(l).copied().unwrap_or(0.0));
+            let lane = x.each(|v| v.get(l).copied().unwrap_or(0.0));
             for (o, y) in out.iter_mut().zip(f(lane)) {
                 if let Some(slot) = o.get_mut(l) {
                     *slot = y;
                 }
             }
         }
-        out.map(F32x8::from_array)
+        out.each(F32x8::from_array)
     }
 }
 

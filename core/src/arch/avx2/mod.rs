@@ -92,6 +92,7 @@ use core::arch::x86_64::*;
 use core::ops::Range;
 
 use crate::composite::{front_to_back, front_to_back_in};
+use crate::each::Each;
 use crate::filter::trilinear_weights;
 use crate::fixed_point::{front_to_back as int_front_to_back, IntSample};
 use crate::mode::{weighted_sums, Weighting};
@@ -248,7 +249,7 @@ impl Samples {
         occupied: impl Fn(&Ray, (f32, u32)) -> Range<u32>,
     ) -> Self {
         let mut first = u32::MAX;
-        let ranges = rays.each_ref().map(|r| {
+        let ranges = rays.each_ref().each(|r| {
             let (t0, n) = range(r);
             let w = occupied(r, (t0, n));
             if w.start < w.end {
@@ -358,7 +359,7 @@ fn march8_any<V: Voxel, K: Kind>(
 
 /// The axis of `dir`'s largest component (by magnitude; the last of equals).
 fn major_axis(dir: [f32; 3]) -> usize {
-    let [x, y, z] = dir.map(f32::abs);
+    let [x, y, z] = dir.each(f32::abs);
     if x > y && x > z {
         0
     } else if y > z {

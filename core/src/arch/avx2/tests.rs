@@ -1,3 +1,6 @@
+// Tests may map arrays the standard way (`core/clippy.toml` is about the kernels' IR).
+#![allow(clippy::disallowed_methods)]
+
 use super::*;
 use crate::mode::{ExtinctionWeighted, LaneMode};
 use crate::sample::Interp;

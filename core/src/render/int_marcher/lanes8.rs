@@ -2,6 +2,7 @@
 //! type picks the kernel, these run it.
 
 use super::*;
+use crate::each::Each;
 use crate::fixed_point::{IntLaneMode, IntLaneVisitor};
 use crate::mode::NO_TAUS;
 
@@ -71,7 +72,7 @@ where
             let samples =
                 Samples::packet(r, |r| m.sample_range(r), |r, s| m.skip.occupied(r, s, d));
             let acc = march8::<K::Voxel, IntOw>(self.cpu, &vol, r, &samples, stage(d, a_stop));
-            acc.map(|a| front_to_back(a, m.background))
+            acc.each(|a| front_to_back(a, m.background))
         })
     }
 }
