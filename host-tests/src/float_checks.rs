@@ -313,6 +313,8 @@ pub struct RenderSpec {
     pub back_to_front: bool,
 }
 
+/// The render comparisons (feature `checks`: the fuzz targets and the tests).
+#[cfg(feature = "checks")]
 impl FloatCase {
     /// The core's image of `mode` with `filter` for `spec`.
     ///
@@ -534,9 +536,11 @@ impl FloatCase {
 
 /// How close (in units of the step) a sample may come to a decision boundary before a pixel
 /// is left out of a render comparison ([`FloatCase::ambiguous_pixel`]).
+#[cfg(feature = "checks")]
 pub const RENDER_AMBIGUITY: f64 = 1e-4;
 
 /// The reference's form of `spec`'s camera.
+#[cfg(feature = "checks")]
 fn ref_camera(spec: &RenderSpec) -> reference::RefCamera {
     let v3 = |v: [f32; 3]| v.map(f64::from);
     match spec.camera {

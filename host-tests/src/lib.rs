@@ -2,13 +2,15 @@
 //! pieces the `volsample` CLI and the tests share.
 //!
 //! Without the default feature `app` only the models remain (`reference`, `int_model`,
-//! `tolerance`, `float_checks`, `checks`, `kernel_checks`), with no dependency beyond the
-//! core, `arbitrary` and std: the fuzz targets build it so. The feature `loaders` (part of
-//! `app`) adds the scenes, the file loaders, `parser_checks` and `vectors`, for the parser and
-//! `vectors` fuzz targets;
-//! `marcher-checks` the marcher checks (`marcher_checks`, the `int_marcher` check); `testing`
-//! (the tests and benches, never the CLI) those and the proptest strategies and edge cases.
+//! `tolerance`, `float_checks`), with no dependency beyond the core and std. The feature
+//! `checks` adds the fuzz targets' oracles (`checks`, `kernel_checks`, and `FloatCase`'s render
+//! comparisons), with `arbitrary`; the fuzz targets build it so, the CLI does not. The feature
+//! `loaders` (part of `app`) adds the scenes, the file loaders and `vectors` (with `checks`,
+//! also `parser_checks`), for the parser and `vectors` fuzz targets; `marcher-checks` the
+//! marcher checks (`marcher_checks`, the `int_marcher` check); `testing` (the tests and
+//! benches, never the CLI) those and the proptest strategies and edge cases.
 
+#[cfg(feature = "checks")]
 pub mod checks;
 #[cfg(feature = "app")]
 pub mod demo;
@@ -22,6 +24,7 @@ pub mod images;
 pub mod int_model;
 #[cfg(feature = "app")]
 pub mod isa;
+#[cfg(feature = "checks")]
 pub mod kernel_checks;
 #[cfg(feature = "app")]
 pub mod kraus;
@@ -29,7 +32,7 @@ pub mod kraus;
 pub mod marcher_checks;
 #[cfg(feature = "app")]
 pub mod out;
-#[cfg(feature = "loaders")]
+#[cfg(all(feature = "loaders", feature = "checks"))]
 pub mod parser_checks;
 #[cfg(feature = "app")]
 pub mod pipeline;

@@ -288,9 +288,10 @@ pub trait Frames {
     fn frame(&self, pixels: &mut [Sample]) -> Result<(), volsample::Error>;
 
     /// The number of samples a frame takes, early termination included (not part of a
-    /// frame's time): without early termination each ray's sample count
-    /// (`sample_range`, which `cast_counted` returns for a ray that does not stop), else each
-    /// ray cast once more, one at a time, to count them.
+    /// frame's time): each ray cast once more, one at a time, to count them (the float
+    /// marchers always stop at their threshold, `A = 1` where the scene sets none); an
+    /// integer pipeline without early termination takes each ray's sample count
+    /// (`sample_range`, which `cast_counted` returns for a ray that does not stop).
     fn samples(&self) -> u64;
 }
 
@@ -309,8 +310,6 @@ struct FloatFrames<'v, V, M, F, O> {
     marcher: RayMarcher<'v, V, M, F, O>,
     cam: Cam,
     image: [usize; 2],
-    /// Early termination is on.
-    stops: bool,
 }
 
 impl<V: Voxel, M: Mode<V>, F: Filter, O: volsample::composite::Order> Frames
@@ -327,11 +326,7 @@ impl<V: Voxel, M: Mode<V>, F: Filter, O: volsample::composite::Order> Frames
 
     fn samples(&self) -> u64 {
         count(&self.cam, self.image, |ray| {
-            if self.stops {
-                self.marcher.cast_counted(ray).1
-            } else {
-                self.marcher.sample_range(ray).1
-            }
+            self.marcher.cast_counted(ray).1
         })
     }
 }
@@ -403,28 +398,19 @@ fn float_build<V: Voxel, M: Mode<V> + Copy, F: Filter, T>(
     let step = Step::new(scene.step)?.with_phase(scene.phase)?;
     let cam = Cam::new(&scene.camera)?;
     let image = scene.image;
-    if scene.a_stop < 1.0 {
-        let order = FrontToBack::with_threshold(scene.a_stop)?;
-        let marcher = RayMarcher::new(vol, mode, filter, order, step)?
-            .with_background(scene.background)?
-            .with_isa(crate::isa::chosen());
-        Ok(body(&FloatFrames {
-            marcher,
-            cam,
-            image,
-            stops: scene.a_stop < 1.0,
-        }))
-    } else {
-        let marcher = RayMarcher::new(vol, mode, filter, FrontToBack::new(), step)?
-            .with_background(scene.background)?
-            .with_isa(crate::isa::chosen());
-        Ok(body(&FloatFrames {
-            marcher,
-            cam,
-            image,
-            stops: scene.a_stop < 1.0,
-        }))
-    }
+    // One marcher type per (storage, mode, filter): a scene without early termination stops
+    // at `A = 1`, after which every step would add `(1 − 1)·x = 0` to each channel of the
+    // accumulated sample (the samples are clamped, so finite): the image is bit-identical,
+    // and the library holds half the float marcher instances.
+    let order = FrontToBack::with_threshold(scene.a_stop.min(1.0))?;
+    let marcher = RayMarcher::new(vol, mode, filter, order, step)?
+        .with_background(scene.background)?
+        .with_isa(crate::isa::chosen());
+    Ok(body(&FloatFrames {
+        marcher,
+        cam,
+        image,
+    }))
 }
 
 fn int_build<V: Voxel, M: fixed_point::IntMode<V>, Fl: fixed_point::IntFilter, T, const B: u32>(

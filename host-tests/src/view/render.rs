@@ -270,6 +270,10 @@ fn associated(data: &[StraightU8]) -> Vec<AssociatedU8> {
 /// Renders a band of integer pixels (`render_rows_into` of an integer marcher).
 type IntRows<'a> = dyn Fn(usize, &mut [IntSample]) -> Result<(), volsample::Error> + Sync + 'a;
 
+/// Renders a band of pixels (`render_rows_into` of a float marcher, or of an integer one
+/// converted).
+type Rows<'a> = dyn Fn(usize, &mut [Sample]) -> Result<(), volsample::Error> + Sync + 'a;
+
 /// One render's fixed inputs.
 struct Job<'a> {
     framed: &'a Framed,
@@ -318,11 +322,11 @@ impl Job<'_> {
             let m = m
                 .with_skipping(&mut grid, SKIP_BRICK_LOG2)
                 .map_err(|e| e.to_string())?;
-            self.bands(m.isa(), |first, rows| {
+            self.bands(m.isa(), &|first, rows| {
                 m.render_rows_into(&self.framed.voxel_camera(), self.size(), first, rows)
             })
         } else {
-            self.bands(m.isa(), |first, rows| {
+            self.bands(m.isa(), &|first, rows| {
                 m.render_rows_into(&self.framed.voxel_camera(), self.size(), first, rows)
             })
         }
@@ -336,7 +340,7 @@ impl Job<'_> {
         F: Filter + Sync,
     {
         let m = self.marcher(data, mode, filter)?;
-        self.bands(m.isa(), |first, rows| {
+        self.bands(m.isa(), &|first, rows| {
             m.render_rows_into(&self.framed.voxel_camera(), self.size(), first, rows)
         })
     }
@@ -367,7 +371,7 @@ impl Job<'_> {
         let cam = self.framed.voxel_camera();
         let isa = m.isa();
         let run = |render: &IntRows<'_>| {
-            self.bands(isa, |first, rows: &mut [Sample]| {
+            self.bands(isa, &|first, rows: &mut [Sample]| {
                 let mut tmp = vec![IntSample::TRANSPARENT; rows.len()];
                 render(first, &mut tmp)?;
                 for (o, t) in rows.iter_mut().zip(&tmp) {
@@ -390,11 +394,9 @@ impl Job<'_> {
     }
 
     /// Fills the image band by band on the thread pool, with a progress bar over rows.
-    fn bands(
-        &self,
-        isa: volsample::Isa,
-        fill: impl Fn(usize, &mut [Sample]) -> Result<(), volsample::Error> + Sync,
-    ) -> Result<Image, String> {
+    /// (`fill` is a trait object: one instance of the pool's machinery for every marcher,
+    /// for one indirect call per band of `BAND_ROWS` rows.)
+    fn bands(&self, isa: volsample::Isa, fill: &Rows<'_>) -> Result<Image, String> {
         let (w, h) = self.size();
         let mut pixels = vec![Sample::TRANSPARENT; w * h];
         let pool = rayon::ThreadPoolBuilder::new()
