@@ -33,7 +33,6 @@ use super::exp_phi::{
     EXP_INT_FRAC_BITS, RATIO_FRAC_BITS, TABLE_FRAC_BITS,
 };
 use super::{round_half_up_div, IntSample, ONE};
-use crate::each::Each;
 use crate::error::Error;
 
 /// Entries of each correction table (`2^8 + 1`).
@@ -219,7 +218,7 @@ impl IntCorrection {
             [0; 3]
         } else {
             s.c()
-                .each(|c| round_half_up_div(u64::from(c) * u64::from(a_d), u64::from(v)) as u16)
+                .map(|c| round_half_up_div(u64::from(c) * u64::from(a_d), u64::from(v)) as u16)
         };
         IntSample::from_valid(c, a_d)
     }

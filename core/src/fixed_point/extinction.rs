@@ -36,7 +36,6 @@ use super::exp_phi::{
     ARG_SATURATED, EXP_INT_FRAC_BITS, TABLE_FRAC_BITS,
 };
 use super::{sealed, IntMode, IntSample, IntWeights, ONE};
-use crate::each::Each;
 use crate::error::Error;
 use crate::voxel::{StraightF32, StraightU8, Voxel, VoxelFault, MAX_OPTICAL_DEPTH};
 
@@ -77,7 +76,7 @@ impl ExtinctionFx {
     /// `D·C` per channel as `fixed` U12.20 numbers (the same bits as
     /// [`c_tau`](Self::c_tau)).
     pub fn depth_color(&self) -> [fixed::types::U12F20; 3] {
-        self.c_tau.each(fixed::types::U12F20::from_bits)
+        self.c_tau.map(fixed::types::U12F20::from_bits)
     }
 
     /// The fixed-point extinction form of a straight `u8` voxel (opacity for `d′`).
@@ -109,7 +108,7 @@ impl ExtinctionFx {
         };
         Self {
             tau,
-            c_tau: v.c.each(c),
+            c_tau: v.c.map(c),
         }
     }
 }
@@ -199,7 +198,7 @@ impl<'t, const N: usize> IntExtinction<'t, N> {
             let s = ARG_FRAC_BITS + TABLE_FRAC_BITS + k;
             // one·x·p < 2^16·2^28·2^(31+k) ≤ 2^102: exact in u128; each result ≤ ONE.
             let a = round_half_up_shift128(one * u128::from(x) * p, s) as u16;
-            let c = s_c.each(|sc| {
+            let c = s_c.map(|sc| {
                 let xc = self.depth(sc, shift);
                 round_half_up_shift128(one * u128::from(xc) * p, s) as u16
             });
@@ -211,7 +210,7 @@ impl<'t, const N: usize> IntExtinction<'t, N> {
         let a = round_half_up_shift128(one * ((1u128 << s) - q.min(1u128 << s)), s) as u16;
         let st = u128::from(s_t);
         // α·S_c ≤ 2^16·2^62; S_c ≤ S_τ keeps each quotient ≤ α.
-        let c = s_c.each(|sc| round_half_up_div128(u128::from(a) * u128::from(sc), st) as u16);
+        let c = s_c.map(|sc| round_half_up_div128(u128::from(a) * u128::from(sc), st) as u16);
         IntSample::from_valid(c, a)
     }
 }

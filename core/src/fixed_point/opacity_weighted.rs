@@ -15,7 +15,6 @@ use super::{
     levels_to_u88, products_to_u88, sealed, IntLaneMode, IntLaneVisitor, IntMode, IntSample,
     IntWeights,
 };
-use crate::each::Each;
 use crate::mode::OpacityWeighted;
 use crate::voxel::StraightU8;
 
@@ -47,7 +46,7 @@ impl IntMode<StraightU8> for OpacityWeighted {
         let shift = w.shift();
         // Both ≤ ONE by the proof above, so the conversions are exact.
         let a = levels_to_u88(s_a, shift) as u16;
-        let c = s_c.each(|s| products_to_u88(s, shift) as u16);
+        let c = s_c.map(|s| products_to_u88(s, shift) as u16);
         IntSample::from_valid(c, a)
     }
 

@@ -11,7 +11,6 @@
 //! so `S_c ≤ S_α` and the same monotone rounding keeps the order.
 
 use super::{levels_to_u88, sealed, IntMode, IntSample, IntWeights};
-use crate::each::Each;
 use crate::mode::Preweighted;
 use crate::voxel::AssociatedU8;
 
@@ -36,7 +35,7 @@ impl IntMode<AssociatedU8> for Preweighted {
         }
         let shift = w.shift();
         let a = levels_to_u88(s_a, shift) as u16;
-        let c = s_c.each(|s| levels_to_u88(s, shift) as u16);
+        let c = s_c.map(|s| levels_to_u88(s, shift) as u16);
         IntSample::from_valid(c, a)
     }
 }

@@ -12,7 +12,6 @@
 //! `C̃ ≤ α`: `C ≤ ONE`, so `α·C/ONE ≤ α`, an integer that rounding keeps.
 
 use super::{levels_to_u88, sealed, IntMode, IntSample, IntWeights, ONE};
-use crate::each::Each;
 use crate::mode::Separate;
 use crate::voxel::StraightU8;
 
@@ -36,7 +35,7 @@ impl IntMode<StraightU8> for Separate {
         let shift = w.shift();
         // Both ≤ ONE (weights sum to 2^s, bytes ≤ 255), so the u32 arithmetic below is exact.
         let a = levels_to_u88(s_a, shift) as u32;
-        let c = s_c.each(|s| {
+        let c = s_c.map(|s| {
             let c = levels_to_u88(s, shift) as u32;
             ((a * c + u32::from(ONE) / 2) / u32::from(ONE)) as u16
         });
