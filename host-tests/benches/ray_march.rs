@@ -17,7 +17,9 @@
 //! and `ow_f32_f32_256_packets` (the same voxels as 16-byte `StraightF32`). These rays lie one
 //! voxel apart and start on one plane, so the eight lanes of a packet cross cells together (a
 //! best case); `ow_f32_u8_256_camera_render_into` renders an orthographic camera's view of the
-//! whole volume (256², rays 1.15 voxels apart, anchored on the image plane), as users do.
+//! whole volume (256², rays 1.15 voxels apart, anchored on the image plane), as users do, and
+//! `ow_f32_f32_256_corrected_camera_render_into` the same view of 16-byte voxels with every
+//! sample corrected, as the report times its `f32` methods.
 //!
 //! Empty space: the same volume cut to a ball in air, marched with and without empty-space
 //! skipping (`volsample::skip`), and the grid's lookup cost where nothing is empty.
@@ -439,6 +441,27 @@ fn bench(c: &mut Criterion) {
     g.bench_function("ow_f32_u8_256_camera_render_into", |b| {
         b.iter(|| {
             ow.render_into(&cam, 256, 256, &mut cam_out).unwrap();
+            black_box(cam_out.iter().map(|&p| all_channels(p)).sum::<f32>())
+        })
+    });
+    // What the report times its `f32` methods on: the same view of the same voxels as 16-byte
+    // `StraightF32` with the opacities defined for `d′ = 2d` (every sample corrected), as the
+    // report's timing scenes are stored and stepped.
+    let ow_f_corrected = RayMarcher::new(
+        volf.with_reference_distance(2.0 * D).unwrap(),
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap()
+    .with_isa(isa());
+    assert!(ow_f_corrected.correction().is_some());
+    g.bench_function("ow_f32_f32_256_corrected_camera_render_into", |b| {
+        b.iter(|| {
+            ow_f_corrected
+                .render_into(&cam, 256, 256, &mut cam_out)
+                .unwrap();
             black_box(cam_out.iter().map(|&p| all_channels(p)).sum::<f32>())
         })
     });

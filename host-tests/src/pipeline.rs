@@ -688,3 +688,28 @@ pub fn render(
         })
     })?
 }
+
+/// Times `frames` frames of `scene` (already [`prepare`](Scene::prepare)d) with `method` on one
+/// pipeline: each frame's wall time in seconds, and the samples a frame takes (counted once,
+/// after the frames; building the pipeline and counting are not timed).
+///
+/// # Errors
+/// As [`with_pipeline`].
+pub fn time_frames(
+    scene: &Scene,
+    prepared: &Prepared,
+    method: Method,
+    frames: usize,
+) -> Result<(Vec<f64>, u64), volsample::Error> {
+    with_pipeline(scene, prepared, method, |p| {
+        let [w, h] = p.image();
+        let mut pixels = vec![Sample::TRANSPARENT; w * h];
+        let mut seconds = Vec::with_capacity(frames);
+        for _ in 0..frames {
+            let start = Instant::now();
+            p.frame(&mut pixels)?;
+            seconds.push(start.elapsed().as_secs_f64());
+        }
+        Ok((seconds, p.samples()))
+    })?
+}

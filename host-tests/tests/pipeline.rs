@@ -433,3 +433,62 @@ fn more_bits_and_larger_tables_come_closer_to_f32() {
     );
     assert!(n17 > n4097, "N=17: {n17}, N=4097: {n4097} levels from f32");
 }
+
+/// A scene without early termination (`a_stop = 1`): the pipeline's float marcher stops at
+/// `A = 1` (one marcher type for every scene), and its image is the never-stopping marcher's
+/// bit for bit, while it takes fewer samples where rays become opaque.
+#[test]
+fn float_frames_without_termination_are_the_never_stopping_marcher() {
+    let (mut s, _) = scene();
+    s.a_stop = 1.0;
+    let p = s.prepare().expect("scene prepares");
+    let vol = scene_volume(&p.rgba, &s);
+    let step = Step::new(s.step).unwrap();
+    let m = RayMarcher::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap()
+    .with_background(s.background)
+    .unwrap();
+    let want = direct(&s, |r| m.cast_counted(r), |x| x);
+    let (px, n) = pipeline_frame(
+        &s,
+        &p,
+        method(
+            ModeChoice::OpacityWeighted,
+            Precision::F32,
+            FilterKind::TrilinearSum,
+        ),
+    );
+    for (k, (a, b)) in px.iter().zip(&want.0).enumerate() {
+        assert_eq!(
+            (a.c.map(f32::to_bits), a.a.to_bits()),
+            (b.c.map(f32::to_bits), b.a.to_bits()),
+            "pixel {k}"
+        );
+    }
+    // Some rays become opaque (`A = 1` exactly) and stop there: the threshold is reached.
+    assert!(n < want.1, "samples {n} vs {} without stopping", want.1);
+    assert!(px.iter().any(|q| q.a == 1.0));
+}
+
+/// `time_frames` renders the asked number of frames on one pipeline and counts the samples a
+/// frame takes as a single frame does.
+#[test]
+fn time_frames_times_each_frame_and_counts_once() {
+    let (s, p) = scene();
+    let m = method(
+        ModeChoice::OpacityWeighted,
+        Precision::F32,
+        FilterKind::TrilinearSum,
+    );
+    let (_, n) = pipeline_frame(&s, &p, m);
+    let (seconds, samples) = pipeline::time_frames(&s, &p, m, 3).expect("frames render");
+    assert_eq!(seconds.len(), 3);
+    assert!(seconds.iter().all(|t| t.is_finite() && *t >= 0.0));
+    assert_eq!(samples, n);
+}

@@ -494,14 +494,13 @@ pub fn run(opts: &Options) -> Result<Report, String> {
     for (scene, prepared, methods) in &timing_plan {
         for m in methods {
             bar.set_message(format!("timing {}: {}", scene.name, m.label()));
-            let mut times = Vec::new();
-            let mut samples = 0;
-            for _ in 0..opts.runs.max(1) {
-                let r = pipeline::render(scene, prepared, *m)
-                    .map_err(|e| format!("{} {}: {e}", scene.name, m.label()))?;
-                times.push(r.seconds * 1e9 / r.samples.max(1) as f64);
-                samples = r.samples;
-            }
+            // One pipeline, `runs` frames (the first also warms the caches), one count.
+            let (seconds, samples) = pipeline::time_frames(scene, prepared, *m, opts.runs.max(1))
+                .map_err(|e| format!("{} {}: {e}", scene.name, m.label()))?;
+            let times: Vec<f64> = seconds
+                .iter()
+                .map(|s| s * 1e9 / samples.max(1) as f64)
+                .collect();
             timings.push(Timing {
                 group: Group::of(prepared),
                 scene: scene.name.clone(),
