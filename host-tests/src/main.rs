@@ -642,13 +642,13 @@ fn run() -> Result<(), String> {
                     generate::paper_scenes(true),
                     runs,
                     1.0 / 32.0,
-                    report::timing_scenes(128, 256),
+                    report::timing_scenes(128, 128),
                 ),
                 (false, Preset::Default) => (
                     generate::paper_scenes(false),
                     runs,
                     1.0 / 16.0,
-                    report::timing_scenes(128, 256),
+                    report::timing_scenes(128, 128),
                 ),
                 (false, Preset::Tiny) => (
                     generate::tiny_scenes(),
