@@ -401,7 +401,7 @@ fn float_build<V: Voxel, M: Mode<V> + Copy, F: Filter, T>(
     // One marcher type per (storage, mode, filter): a scene without early termination stops
     // at `A = 1`, after which every step would add `(1 − 1)·x = 0` to each channel of the
     // accumulated sample (the samples are clamped, so finite): the image is bit-identical,
-    // and the library holds half the float marcher instances.
+    // and the report's float pipelines need half the marcher instances.
     let order = FrontToBack::with_threshold(scene.a_stop.min(1.0))?;
     let marcher = RayMarcher::new(vol, mode, filter, order, step)?
         .with_background(scene.background)?
