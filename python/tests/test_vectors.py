@@ -234,10 +234,17 @@ def test_a_damaged_file_is_a_value_error(tmp_path):
 
 
 def test_the_gil_is_released(tmp_path):
-    took, ticks = gil_free_ticks(lambda: volsample.vectors(
-        "downsample-opacity-based", str(tmp_path / "ds"), count=4000))
+    # Long enough to tell on any machine: the count doubles until a generation takes 0.2 s
+    # (4000 vectors once took 0.041 s, too short for the check below).
+    count = 4000
+    for k in range(8):
+        took, ticks = gil_free_ticks(lambda: volsample.vectors(
+            "downsample-opacity-based", str(tmp_path / f"ds{k}"), count=count))
+        if took > 0.2:
+            break
+        count *= 2
     assert took > 0.05, "generation too short to tell"
-    assert ticks >= 5, (ticks, took)
+    assert ticks >= 5, (ticks, took, count)
 
 
 CLI = os.environ.get("VOLSAMPLE_CLI") or shutil.which("volsample")
