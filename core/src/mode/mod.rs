@@ -32,9 +32,12 @@ pub use separate::Separate;
 
 use crate::each::Each;
 pub(crate) use lanes8::{
-    ByOpacity, LaneCorrection, LaneMode, LaneVisitor, LaneVoxel, Linear, StoredF32x4, TauOfAlpha8,
-    Unorm8, Weighting,
+    ByOpacity, LaneMode, LaneVisitor, LaneVoxel, Linear, StoredF32x4, TauOfAlpha8, Unorm8,
+    Weighting,
 };
+// (The AVX2 kernel's stage takes the correction in lanes, x86-64 only.)
+#[cfg(target_arch = "x86_64")]
+pub(crate) use lanes8::LaneCorrection;
 // (The integer lane kernel's visitors, x86-64 only, pass the empty `τ` table.)
 #[cfg(target_arch = "x86_64")]
 pub(crate) use lanes8::NO_TAUS;
