@@ -14,7 +14,8 @@
 //! * **Along which rays** — [`ray`] clipping and cameras, [`render`] for whole images, one
 //!   ray at a time (four consecutive samples in [`lanes`] on SIMD targets) or four rays in
 //!   lanes ([`RayMarcher::cast_rays`]; eight in AVX2 lanes on a CPU with AVX2); bit-identical
-//!   either way. The integer pipeline's marcher is [`render::IntRayMarcher`] (its `F = 8`
+//!   either way, and every one of these marchers an instance of one march loop
+//!   (`core/src/march.rs`). The integer pipeline's marcher is [`render::IntRayMarcher`] (its `F = 8`
 //!   alias [`IntRayMarcher`]).
 //! * **In fixed point** — [`fixed_point`]: the bit-exact integer kernels of firmware and
 //!   hardware (the integer `OpacityWeighted` trilinear kernel in SSE2 on x86-64;
@@ -69,6 +70,8 @@ pub mod fixed_point;
 #[doc(hidden)]
 #[forbid(unsafe_code)]
 pub mod lanes;
+#[forbid(unsafe_code)]
+mod march;
 #[forbid(unsafe_code)]
 pub mod mode;
 #[forbid(unsafe_code)]

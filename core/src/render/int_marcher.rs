@@ -38,6 +38,7 @@ use crate::volume::Volume;
 use crate::voxel::Voxel;
 #[cfg(target_arch = "x86_64")]
 mod lanes8;
+mod one_ray;
 #[cfg(target_arch = "x86_64")]
 use lanes8::{OneRay, Reads};
 
@@ -301,71 +302,6 @@ where
             None => self.march(ray, &Identity),
         };
         (front_to_back(acc, self.background), n)
-    }
-
-    #[inline(always)]
-    fn march<C: Stage>(&self, ray: &Ray, corr: &C) -> (IntSample, u32) {
-        let (t_first, n) = self.sample_range(ray);
-        let d = self.step.d();
-        let a_stop = self.stop.a_stop();
-        let mut acc = IntSample::TRANSPARENT;
-        // Outside these samples every sample is empty (none without skipping): exactly
-        // transparent, so leaving them out changes neither `acc` nor the stop test.
-        let window = self.skip.occupied(ray, (t_first, n), d);
-        #[cfg(target_arch = "x86_64")]
-        if let (Some(cpu), true) = (self.isa.avx2_token(), self.eight_ray_packets()) {
-            // Eight consecutive samples in the AVX2 lanes (the same positions, integer
-            // arithmetic and order of compositing).
-            let one = OneRay {
-                vol: self.sampler.volume(),
-                cpu,
-                ray,
-                samples: crate::arch::avx2::Samples::window((t_first, n), window.clone()),
-                d,
-                a_stop: f32::from(a_stop),
-            };
-            if let Ok(Some(done)) = Fl::lanes8(self.sampler.mode(), one) {
-                return done;
-            }
-        }
-        if !S::SKIPS {
-            // Software-pipelined: the voxels of sample `j + 1` are read before sample `j` is
-            // combined, so their loads are in flight meanwhile. Same positions, same taps, same
-            // order of compositing: the same result. (One read past the last sample, at a
-            // position clamped into the volume, is not used.)
-            let at = |j: u32| self.quantize_in_box(ray.at(t_first + j as f32 * d));
-            let mut pos = at(0);
-            let mut taps = self.sampler.fetch(pos);
-            for j in 0..n {
-                if acc.a() >= a_stop {
-                    return (acc, j);
-                }
-                let (p, t) = (pos, taps);
-                pos = at(j.wrapping_add(1));
-                taps = self.sampler.fetch(pos);
-                acc = front_to_back(acc, corr.apply(self.sampler.combine(t, p)));
-            }
-            return (acc, n);
-        }
-        let end = window.end.min(n);
-        for j in window.start..end {
-            if acc.a() >= a_stop {
-                return (acc, j);
-            }
-            let p = ray.at(t_first + j as f32 * d);
-            // A skipped sample is exactly transparent: `acc`, the stop test and the count
-            // are what compositing it would have left.
-            if self.skip.empty(p) {
-                continue;
-            }
-            let s = self.sample_with(p, corr);
-            acc = front_to_back(acc, s);
-        }
-        // The stop test before the first sample left out, if any.
-        if end < n && acc.a() >= a_stop {
-            return (acc, end);
-        }
-        (acc, n)
     }
 
     /// [`cast_counted`](Self::cast_counted) with the sample positions given in the integer

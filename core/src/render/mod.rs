@@ -17,6 +17,7 @@
 //! background is applied once per ray.
 
 use core::marker::PhantomData;
+use core::ops::ControlFlow;
 
 use crate::arch::{in_isa, Isa};
 use crate::composite::{back_to_front, front_to_back, front_to_back_in, over, Order, Termination};
@@ -35,6 +36,7 @@ use crate::voxel::Voxel;
 
 mod image;
 mod int_marcher;
+mod one_ray;
 mod packets;
 mod step;
 
@@ -279,87 +281,6 @@ where
         let k1 = libm::ceilf(t1 / d - phase);
         let n = (k1 - k0).clamp(0.0, MAX_SAMPLES_PER_RAY as f32) as u32;
         ((k0 + phase) * d, n)
-    }
-
-    #[inline(always)]
-    fn march<C: Correction>(&self, ray: &Ray, corr: &C) -> (Sample, u32) {
-        let (t_first, n) = self.samples(ray);
-        let d = self.step.d;
-        // Outside these samples every sample is empty (none without skipping): transparent,
-        // so leaving them out changes neither `acc` nor the count.
-        let window = self.skip.occupied(ray, (t_first, n), d);
-        let mut acc = Sample::TRANSPARENT;
-        if O::FRONT_TO_BACK {
-            #[cfg(target_arch = "x86_64")]
-            if let Some(done) = self.march_one_avx2(ray, (t_first, n), window.clone()) {
-                return done;
-            }
-            return self.march_from(ray, corr, (t_first, n), window, acc);
-        } else {
-            for j in window.rev() {
-                let p = ray.at(t_first + j as f32 * d);
-                if self.skip.empty(p) {
-                    continue;
-                }
-                let s = self.sample_with(p, corr);
-                acc = back_to_front(acc, s);
-            }
-        }
-        (acc, n)
-    }
-
-    /// Front to back over the samples `window` of the ray's `n`, with `acc` composited so
-    /// far, four samples at a time in lanes where [`sample_lanes`] says so: the tail of
-    /// [`march`](Self::march), where [`march4`](Self::march4) hands over a ray that is the
-    /// last of its packet still going. The count is `n` unless the ray stops early.
-    #[inline(always)]
-    fn march_from<C: Correction>(
-        &self,
-        ray: &Ray,
-        corr: &C,
-        (t_first, n): (f32, u32),
-        window: core::ops::Range<u32>,
-        mut acc: Sample,
-    ) -> (Sample, u32) {
-        let d = self.step.d;
-        let term = self.order.termination();
-        let (mut j0, end) = (window.start, window.end.min(n));
-        if sample_lanes::<V, M, F>() {
-            // Four consecutive samples at a time in lanes, composited in order; the samples
-            // after an early stop are computed and dropped.
-            while end.saturating_sub(j0) >= 4 {
-                let pos: [[f32; 3]; 4] =
-                    crate::each::build(|l| ray.at(t_first + (j0 + l as u32) as f32 * d));
-                let keep = pos.each(|p| !self.skip.empty(p));
-                if keep.iter().any(|&k| k) {
-                    let i = F::interpolate_x4(&self.mode, &self.volume, pos);
-                    let s = unpack_interp(corr.apply_in(self.mode.finish_in(i, d)));
-                    for (l, (s, k)) in s.iter().zip(keep).enumerate() {
-                        if k {
-                            acc = front_to_back(acc, Sample { c: s.c, a: s.a });
-                            if term.done(acc.a) {
-                                return (acc, j0 + l as u32 + 1);
-                            }
-                        }
-                    }
-                }
-                j0 += 4;
-            }
-        }
-        for j in j0..end {
-            let p = ray.at(t_first + j as f32 * d);
-            // A skipped sample is transparent, so `acc` and the termination test are
-            // unchanged by it (and it was not done after the previous sample).
-            if self.skip.empty(p) {
-                continue;
-            }
-            let s = self.sample_with(p, corr);
-            acc = front_to_back(acc, s);
-            if term.done(acc.a) {
-                return (acc, j + 1);
-            }
-        }
-        (acc, n)
     }
 
     /// Integrates four rays at once: entry `l` is `cast_counted(&rays[l])`, bit for bit.

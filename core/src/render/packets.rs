@@ -2,6 +2,8 @@
 //! and where the marcher's [`Isa`] is AVX2, the eight-lane kernel of `arch::avx2` (eight rays,
 //! or eight samples of one ray).
 
+use core::convert::Infallible;
+
 use super::*;
 #[cfg(target_arch = "x86_64")]
 use crate::arch::avx2::{Samples, Stage};
@@ -116,8 +118,9 @@ where
         (rays, out)
     }
 
-    /// The packet form of [`march`](Self::march) (front to back only): the accumulated
-    /// samples (before the background) and the sample counts.
+    /// The packet form of [`march`](Self::march) (front to back only; the four-ray instance
+    /// of `crate::march`): the accumulated samples (before the background) and the sample
+    /// counts.
     #[inline(always)]
     pub(super) fn march4<C: Correction>(
         &self,
@@ -128,31 +131,51 @@ where
         let n = ranges.each(|r| r.1);
         let d = self.step.d;
         let term = self.order.termination();
-        let mut acc = Interp {
-            c: [F32x4::ZERO; 3],
-            a: F32x4::ZERO,
+        let mut st = Four {
+            acc: Interp {
+                c: [F32x4::ZERO; 3],
+                a: F32x4::ZERO,
+            },
+            count: n,
+            live: n.each(|k| k > 0),
         };
-        let mut count = n;
-        let mut live = n.each(|k| k > 0);
-        let mut j = 0u32;
-        while live.iter().any(|&l| l) {
-            let jd = j as f32 * d;
-            let mut pos = [[0.0f32; 3]; 4];
-            let mut active = [false; 4];
-            for (((p, a), (r, &(t_first, _))), &l) in pos
-                .iter_mut()
-                .zip(active.iter_mut())
-                .zip(rays.iter().zip(ranges.iter()))
-                .zip(live.iter())
-            {
-                if l {
-                    *p = r.at(t_first + jd);
-                    // A skipped sample is transparent: the lane's `acc` and its termination
-                    // test are unchanged by it, as in `march`.
-                    *a = !self.skip.empty(*p);
+        let steps = n.iter().copied().max().unwrap_or(0);
+        let marched = crate::march::march(
+            &mut st,
+            steps,
+            0,
+            None,
+            // Lanes go while before their last sample and not stopped; the march goes while
+            // two or more do (the last ray still going finishes below, one sample at a time).
+            #[inline(always)]
+            |st: &mut Four, j: u32| {
+                for (l, &k) in st.live.iter_mut().zip(&n) {
+                    if j >= k {
+                        *l = false;
+                    }
                 }
-            }
-            if let Some(fill) = pos.iter().zip(active).find(|x| x.1).map(|x| *x.0) {
+                st.live.iter().filter(|&&l| l).count() > 1
+            },
+            // Step `j`'s samples where a live lane's is not skipped (`None` where no lane's is).
+            #[inline(always)]
+            |st: &mut Four, j: u32| {
+                let jd = j as f32 * d;
+                let mut pos = [[0.0f32; 3]; 4];
+                let mut active = [false; 4];
+                for (((p, a), (r, &(t_first, _))), &l) in pos
+                    .iter_mut()
+                    .zip(active.iter_mut())
+                    .zip(rays.iter().zip(ranges.iter()))
+                    .zip(st.live.iter())
+                {
+                    if l {
+                        *p = r.at(t_first + jd);
+                        // A skipped sample is transparent: the lane's `acc` and its termination
+                        // test are unchanged by it, as in `march`.
+                        *a = !self.skip.empty(*p);
+                    }
+                }
+                let fill = pos.iter().zip(active).find(|x| x.1).map(|x| *x.0)?;
                 // Idle lanes sample an active lane's position; their result is discarded.
                 for (p, a) in pos.iter_mut().zip(active) {
                     if !a {
@@ -160,28 +183,32 @@ where
                     }
                 }
                 let i = F::interpolate_x4(&self.mode, &self.volume, pos);
-                let s = corr.apply_in(self.mode.finish_in(i, d));
-                // `front_to_back` in lanes, kept only in the active lanes.
-                acc = front_to_back_in(acc, s, active);
-                let a = acc.a.to_array();
-                for (((l, k), a), &act) in live.iter_mut().zip(count.iter_mut()).zip(a).zip(&active)
-                {
-                    if act && term.done(a) {
-                        *l = false;
-                        *k = j + 1;
+                Some((corr.apply_in(self.mode.finish_in(i, d)), active))
+            },
+            // `front_to_back` in lanes, kept only in the active lanes.
+            #[inline(always)]
+            |st: &mut Four, s: Option<(Interp<F32x4>, [bool; 4])>, j: u32| {
+                if let Some((s, active)) = s {
+                    st.acc = front_to_back_in(st.acc, s, active);
+                    let a = st.acc.a.to_array();
+                    for (((l, k), a), &act) in
+                        st.live.iter_mut().zip(&mut st.count).zip(a).zip(&active)
+                    {
+                        if act && term.done(a) {
+                            *l = false;
+                            *k = j + 1;
+                        }
                     }
                 }
-            }
-            j += 1;
-            for (l, &k) in live.iter_mut().zip(&n) {
-                if j >= k {
-                    *l = false;
-                }
-            }
-            if live.iter().filter(|&&l| l).count() == 1 {
-                break;
-            }
-        }
+                ControlFlow::<Infallible>::Continue(())
+            },
+        );
+        let ControlFlow::Continue(j) = marched;
+        let Four {
+            acc,
+            mut count,
+            live,
+        } = st;
         let mut samples = unpack_interp(acc).each(|x| Sample { c: x.c, a: x.a });
         // The last ray still going (rays of a packet differ in length) finishes one sample at
         // a time, from the sample and the `acc` it reached: the same operations as in its
@@ -198,6 +225,14 @@ where
         }
         (samples, count)
     }
+}
+
+/// What [`RayMarcher::march4`]'s steps carry: the four lanes' accumulated samples, their
+/// counts (a lane's `n` until it stops early) and which lanes still go.
+struct Four {
+    acc: Interp<F32x4>,
+    count: [u32; 4],
+    live: [bool; 4],
 }
 
 /// [`RayMarcher::cast_rays8`] for the lane kernel of the marcher's mode.

@@ -1,6 +1,8 @@
-//! The march: eight rays (or eight samples of one ray) in the lanes, step by step.
+//! The march's AVX2 instance: eight rays (or eight samples of one ray) in the lanes, step by
+//! step, in the one march loop of `crate::march`.
 
 use core::arch::x86_64::*;
+use core::ops::ControlFlow;
 
 use super::*;
 use crate::each::Each;
@@ -96,177 +98,172 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
         let done = unsafe { K::done(acc, a_stop) };
         _mm256_andnot_ps(done, _mm256_and_ps(live, more))
     };
-    // With `ONE`: the accumulated sample of the one ray (bit patterns) and, once it ends or
-    // stops at step `i`, the result: lane 0 of the four arrays the sample, lane 1 of the
-    // first the number of samples composited.
-    let mut one_acc = [0i32; 4];
+    // With `ONE`, the result from the one ray's accumulated sample (bit patterns) once it ends
+    // or stops: lane 0 of the four arrays the sample, lane 1 of the first the number of
+    // samples composited.
     let one_result = |[r, g, b, a]: [i32; 4], n: u32| {
         let mut out = [[0i32; LANES]; 4];
         let [or, og, ob, oa] = &mut out;
         [or[0], or[1], og[0], ob[0], oa[0]] = [r, n as i32, g, b, a];
         out
     };
-    let mut one_ray = |s: [__m256; 4], i: u32| {
-        let k0 = first + i * LANES as u32;
-        // SAFETY: as above.
-        let n = unsafe {
-            K::serial(
-                &mut one_acc,
-                K::finish(s, d, corr),
-                k0,
-                (end, total),
-                a_stop,
-            )
-        }?;
-        Some(one_result(one_acc, n))
-    };
 
-    let mut acc = [zf; 4];
     // Lanes still compositing: before their last sample and not yet stopped (with `ONE`,
     // all of them while the ray has samples; `serial` stops it).
-    let mut live = if ONE {
+    let live = if ONE {
         _mm256_castsi256_ps(_mm256_set1_epi32(if samples > 0 { -1 } else { 0 }))
     } else {
         _mm256_castsi256_ps(_mm256_cmpgt_epi32(count, zero))
     };
-    let mut cell = Cell::<A>::new();
-    // The sums of the `K::LAG` steps before, finished and composited after this step's
-    // sums, oldest first (software pipelining, for the extinction modes: the step's long
-    // chain of dependent operations, two divisions among them, then overlaps the next
-    // samples' work; same operations, same order of compositing, so the same results).
-    let lag = K::LAG.min(LAG);
-    let mut pending = [[zf; 4]; LAG as usize];
-    let mut j = 0u32;
-    while j < steps && _mm256_movemask_ps(live) != 0 {
-        // The sample position, as `Ray::at(t_first + k·d)` of sample `k = first + j` (with
-        // `ONE`, `first + 8j + l` in lane `l`: every index below `2^24`,
-        // `MAX_SAMPLES_PER_RAY`, so exact as an `f32`).
-        let t = if ONE {
-            let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-            let k0 = first + j * LANES as u32;
-            let jv = _mm256_add_epi32(_mm256_set1_epi32(k0 as i32), lane);
-            _mm256_add_ps(t0, _mm256_mul_ps(_mm256_cvtepi32_ps(jv), dv))
-        } else {
-            _mm256_add_ps(t0, _mm256_mul_ps(_mm256_set1_ps((first + j) as f32), dv))
-        };
-        // Per axis: the fraction and the two tap coordinates clamped into the grid
-        // (`Kind::split`), and the coordinate `PREFETCH_STEPS` steps ahead (truncated: only a
-        // prefetch address).
-        let split = |(o, d, last, n, ahead): (__m256, __m256, __m256i, __m256, __m256)| {
-            let p = _mm256_add_ps(o, _mm256_mul_ps(d, t));
-            let next = _mm256_cvttps_epi32(_mm256_add_ps(p, ahead));
-            // SAFETY: as above.
-            let (f, i0, i1) = unsafe { K::split(p, last, n) };
-            (f, i0, i1, next)
-        };
-        let [(fx, x0, x1, qx), (fy, y0, y1, qy), (fz, z0, z1, qz)] = map3(axes, split);
-        let row = |y, z| _mm256_add_epi32(_mm256_mullo_epi32(y, sx), _mm256_mullo_epi32(z, sy));
-        // The prefetch (with the reuse, whose branches would otherwise leave the remaining
-        // reads waiting on memory): lanes 0 and 7 of the four tap rows ahead. Its addresses
-        // may lie outside the data (`wrapping_offset`, never dereferenced).
-        if REUSE {
-            let q = _mm256_add_epi32(qx, row(qy, qz));
-            // Along y or z, the two rows on the near side of the major axis (a far row ahead
-            // is a near row of a sample a cell further on, prefetched by a later step); along
-            // x, all four.
-            let rows = match A {
-                2 => [zero, sx, sy, sy],
-                1 => [zero, sy, sx, sx],
-                _ => [zero, sx, sy, _mm256_add_epi32(sx, sy)],
+    let mut st = State {
+        acc: [zf; 4],
+        live,
+        cell: Cell::<A>::new(),
+        one_acc: [0; 4],
+    };
+    // The sums of step `j` (`crate::march`, which composites them `K::LAG` steps later: for the
+    // extinction modes the step's long chain of dependent operations, two divisions among
+    // them, then overlaps the next samples' work).
+    let steps = crate::march::march(
+        &mut st,
+        steps,
+        K::LAG,
+        [zf; 4],
+        #[inline(always)]
+        |st: &mut State<A>, _| _mm256_movemask_ps(st.live) != 0,
+        #[inline(always)]
+        |st: &mut State<A>, j: u32| {
+            // The sample position, as `Ray::at(t_first + k·d)` of sample `k = first + j` (with
+            // `ONE`, `first + 8j + l` in lane `l`: every index below `2^24`,
+            // `MAX_SAMPLES_PER_RAY`, so exact as an `f32`).
+            let t = if ONE {
+                let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+                let k0 = first + j * LANES as u32;
+                let jv = _mm256_add_epi32(_mm256_set1_epi32(k0 as i32), lane);
+                _mm256_add_ps(t0, _mm256_mul_ps(_mm256_cvtepi32_ps(jv), dv))
+            } else {
+                _mm256_add_ps(t0, _mm256_mul_ps(_mm256_set1_ps((first + j) as f32), dv))
             };
-            for r in rows.into_iter().take(if A == 0 { 4 } else { 2 }) {
-                let [a0, .., a7] = to_i32s(_mm256_add_epi32(q, r));
-                for l in [a0, a7] {
-                    let p = data.as_ptr().wrapping_offset(l as isize);
-                    _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>());
+            // Per axis: the fraction and the two tap coordinates clamped into the grid
+            // (`Kind::split`), and the coordinate `PREFETCH_STEPS` steps ahead (truncated: only a
+            // prefetch address).
+            let split = |(o, d, last, n, ahead): (__m256, __m256, __m256i, __m256, __m256)| {
+                let p = _mm256_add_ps(o, _mm256_mul_ps(d, t));
+                let next = _mm256_cvttps_epi32(_mm256_add_ps(p, ahead));
+                // SAFETY: as above.
+                let (f, i0, i1) = unsafe { K::split(p, last, n) };
+                (f, i0, i1, next)
+            };
+            let [(fx, x0, x1, qx), (fy, y0, y1, qy), (fz, z0, z1, qz)] = map3(axes, split);
+            let row = |y, z| _mm256_add_epi32(_mm256_mullo_epi32(y, sx), _mm256_mullo_epi32(z, sy));
+            // The prefetch (with the reuse, whose branches would otherwise leave the remaining
+            // reads waiting on memory): lanes 0 and 7 of the four tap rows ahead. Its addresses
+            // may lie outside the data (`wrapping_offset`, never dereferenced).
+            if REUSE {
+                let q = _mm256_add_epi32(qx, row(qy, qz));
+                // Along y or z, the two rows on the near side of the major axis (a far row ahead
+                // is a near row of a sample a cell further on, prefetched by a later step); along
+                // x, all four.
+                let rows = match A {
+                    2 => [zero, sx, sy, sy],
+                    1 => [zero, sy, sx, sx],
+                    _ => [zero, sx, sy, _mm256_add_epi32(sx, sy)],
+                };
+                for r in rows.into_iter().take(if A == 0 { 4 } else { 2 }) {
+                    let [a0, .., a7] = to_i32s(_mm256_add_epi32(q, r));
+                    for l in [a0, a7] {
+                        let p = data.as_ptr().wrapping_offset(l as isize);
+                        _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>());
+                    }
                 }
             }
-        }
-        let (r00, r10, r01, r11) = (row(y0, z0), row(y1, z0), row(y0, z1), row(y1, z1));
-        let at = [
-            _mm256_add_epi32(x0, r00),
-            _mm256_add_epi32(x1, r00),
-            _mm256_add_epi32(x0, r10),
-            _mm256_add_epi32(x1, r10),
-            _mm256_add_epi32(x0, r01),
-            _mm256_add_epi32(x1, r01),
-            _mm256_add_epi32(x0, r11),
-            _mm256_add_epi32(x1, r11),
-        ];
-        let f = [fx, fy, fz];
+            let (r00, r10, r01, r11) = (row(y0, z0), row(y1, z0), row(y0, z1), row(y1, z1));
+            let at = [
+                _mm256_add_epi32(x0, r00),
+                _mm256_add_epi32(x1, r00),
+                _mm256_add_epi32(x0, r10),
+                _mm256_add_epi32(x1, r10),
+                _mm256_add_epi32(x0, r01),
+                _mm256_add_epi32(x1, r01),
+                _mm256_add_epi32(x0, r11),
+                _mm256_add_epi32(x1, r11),
+            ];
+            let f = [fx, fy, fz];
 
-        // The taps' channels, then the sums (`Kind::cell_sums`, `Kind::tap_sums`). With the
-        // reuse, the channels are read only where the packet has moved on (here rather than in
-        // a `Cell` method: a `target_feature` function was not inlined into its caller, and
-        // the call cost about 5 % of the kernel's time).
-        let s = if REUSE {
-            let same = |a: __m256i, b: __m256i, c: __m256i, d: __m256i| {
-                let eq = _mm256_and_si256(_mm256_cmpeq_epi32(a, b), _mm256_cmpeq_epi32(c, d));
-                _mm256_movemask_epi8(eq) == -1
-            };
-            let [c0, c7, far0] = cell.at;
-            if !same(at[0], c0, at[7], c7) {
-                let taps = Taps::new(data, at);
-                if same(at[0], far0, Cell::<A>::near7(&at), c7) {
-                    cell.near ^= 1;
-                } else {
-                    cell.read::<V, K, 0>(&taps, taus);
+            // The taps' channels, then the sums (`Kind::cell_sums`, `Kind::tap_sums`). With the
+            // reuse, the channels are read only where the packet has moved on (here rather than in
+            // a `Cell` method: a `target_feature` function was not inlined into its caller, and
+            // the call cost about 5 % of the kernel's time).
+            if REUSE {
+                let same = |a: __m256i, b: __m256i, c: __m256i, d: __m256i| {
+                    let eq = _mm256_and_si256(_mm256_cmpeq_epi32(a, b), _mm256_cmpeq_epi32(c, d));
+                    _mm256_movemask_epi8(eq) == -1
+                };
+                let cell = &mut st.cell;
+                let [c0, c7, far0] = cell.at;
+                if !same(at[0], c0, at[7], c7) {
+                    let taps = Taps::new(data, at);
+                    if same(at[0], far0, Cell::<A>::near7(&at), c7) {
+                        cell.near ^= 1;
+                    } else {
+                        cell.read::<V, K, 0>(&taps, taus);
+                    }
+                    cell.read::<V, K, 1>(&taps, taus);
+                    cell.at = [at[0], at[7], Cell::<A>::far0(&at)];
                 }
-                cell.read::<V, K, 1>(&taps, taus);
-                cell.at = [at[0], at[7], Cell::<A>::far0(&at)];
+                // SAFETY: as above.
+                unsafe { K::cell_sums(cell, f) }
+            } else {
+                // SAFETY: as above.
+                unsafe { K::tap_sums(&Taps::new(data, at), f, taus) }
             }
-            // SAFETY: as above.
-            unsafe { K::cell_sums(&cell, f) }
-        } else {
-            // SAFETY: as above.
-            unsafe { K::tap_sums(&Taps::new(data, at), f, taus) }
-        };
-        // The sums to composite now, of sample `j − lag`: this step's, or (pipelined) the
-        // oldest pending.
-        let s = if lag > 0 {
-            let oldest = pending[0];
-            pending.rotate_left(1);
-            if let Some(newest) = pending.last_mut() {
-                *newest = s;
-            }
-            if j < lag {
-                j += 1;
-                continue;
-            }
-            oldest
-        } else {
-            s
-        };
-        if ONE {
-            if let Some(out) = one_ray(s, j - lag) {
-                return out;
-            }
-        } else {
-            acc = over(acc, s, live);
-            live = still(&acc, live, j - lag);
-        }
-        j += 1;
-    }
-    // The pipelined samples left (`j − lag` to `j − 1`, of those that exist), where a lane is
-    // still live.
-    if lag > 0 {
-        let first = j.saturating_sub(lag);
-        let left = pending.iter().skip((LAG - (j - first)) as usize);
-        for (i, s) in (first..j).zip(left) {
+        },
+        // The sums of step `i` composited: in order onto the one ray (`ONE`), ending the march
+        // once it stops or its samples end; else onto each live lane's `acc`.
+        #[inline(always)]
+        |st: &mut State<A>, s: [__m256; 4], i: u32| {
             if ONE {
-                if let Some(out) = one_ray(*s, i) {
-                    return out;
+                // (Here rather than in a closure of its own, which LLVM did not always inline
+                // into both of this closure's call sites of the pipelined march.)
+                let k0 = first + i * LANES as u32;
+                // SAFETY: as above.
+                let n = unsafe {
+                    K::serial(
+                        &mut st.one_acc,
+                        K::finish(s, d, corr),
+                        k0,
+                        (end, total),
+                        a_stop,
+                    )
+                };
+                match n {
+                    Some(n) => ControlFlow::Break(one_result(st.one_acc, n)),
+                    None => ControlFlow::Continue(()),
                 }
-            } else if _mm256_movemask_ps(live) != 0 {
-                acc = over(acc, *s, live);
-                live = still(&acc, live, i);
+            } else {
+                st.acc = over(st.acc, s, st.live);
+                st.live = still(&st.acc, st.live, i);
+                ControlFlow::Continue(())
             }
-        }
+        },
+    );
+    if let ControlFlow::Break(out) = steps {
+        return out;
     }
     if ONE {
-        return one_result(one_acc, K::ran_out(&one_acc, (end, total), a_stop));
+        return one_result(st.one_acc, K::ran_out(&st.one_acc, (end, total), a_stop));
     }
-    let [r, g, b, a] = acc;
+    let [r, g, b, a] = st.acc;
     let bits = |v: __m256| to_i32s(_mm256_castps_si256(v));
     [bits(r), bits(g), bits(b), bits(a)]
+}
+
+/// What [`march8_avx2`]'s steps carry from one to the next: the accumulated `[r, g, b, α]`
+/// lanes, the lanes still live, (with the reuse) the taps' channels, and (with `ONE`) the one
+/// ray's accumulated sample (bit patterns).
+struct State<const A: usize> {
+    acc: [__m256; 4],
+    live: __m256,
+    cell: Cell<A>,
+    one_acc: [i32; 4],
 }

@@ -2,8 +2,8 @@
 //! with a lane kernel (`mode::LaneMode`: `OpacityWeighted`, `Separate`, `ExtinctionWeightedU8`
 //! over RGBA8 words, `ExtinctionWeighted` over 16-byte `ExtinctionF32` voxels; their taps read
 //! as their [`ReadTaps`] says) and by the integer
-//! `OpacityWeighted` pipeline at `F = 8` ([`IntOw`]). The march itself ([`march8_avx2`]) is
-//! written once over it.
+//! `OpacityWeighted` pipeline at `F = 8` ([`IntOw`]). The eight-lane kernel ([`march8_avx2`]) is
+//! written once over it, as the AVX2 instance of the one march loop (`crate::march`).
 //!
 //! Every method is an `unsafe fn` compiled for AVX2 and FMA (`#[target_feature]`, inlined into
 //! the kernel, which is compiled so too): its one requirement is a CPU with AVX2 and FMA, which
@@ -20,7 +20,7 @@ use crate::opacity::Correction;
 /// method: the CPU must have AVX2 and FMA.
 pub(crate) trait Kind {
     /// How many steps the compositing lags behind the sums (the pipelining of
-    /// [`march8_avx2`]; [`LAG`] for the extinction modes, 0 for the others).
+    /// march, `crate::march`: 1 for the extinction modes, 0 for the others).
     const LAG: u32;
 
     /// A lane's result: a float [`Sample`] or an [`IntSample`].

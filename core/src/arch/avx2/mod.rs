@@ -183,11 +183,6 @@ const PREFETCH_STEPS: f32 = 6.0;
 /// Rays per packet.
 pub(crate) const LANES: usize = 8;
 
-/// How many steps the extinction modes' compositing lags behind their sums (see the
-/// pipelining in [`march8_avx2`]). A lag of 1 took `ExtinctionWeightedU8` from 7.8 to 7.1
-/// ns/sample in a probe; 2 gained nothing (6.3–7.9 against 6.3–6.5, both modes).
-const LAG: u32 = 1;
-
 /// Marches the leading multiple of eight rays of `rays` by `march` (eight rays to their eight
 /// results) into `out`, and returns the rays and outputs left (fewer than eight; all of them
 /// if `out` is not as long as `rays`).
