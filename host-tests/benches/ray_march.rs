@@ -763,6 +763,14 @@ fn bench(c: &mut Criterion) {
             black_box(s)
         })
     });
+    // The batch form: the instruction set entered once, the cells ahead prefetched.
+    let mut out = vec![Sample::TRANSPARENT; pos.len()];
+    g.bench_function("ow_f32_u8_256_random_access_sample_into", |b| {
+        b.iter(|| {
+            ow.sample_into(&pos, &mut out).unwrap();
+            black_box(out.iter().map(|&x| all_channels(x)).sum::<f32>())
+        })
+    });
     g.finish();
     interleaved_ratios(&v256, &rays256);
 }

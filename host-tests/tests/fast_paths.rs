@@ -322,6 +322,92 @@ fn cast_rays_rejects_a_wrong_output_length() {
     );
 }
 
+/// `sample_into` (the batch form: the instruction set entered once, the cells ahead
+/// prefetched), float and integer, in every instruction set this CPU has, against `sample` in
+/// the baseline instruction set at each position: random positions in and around the grid,
+/// NaN and far outside; and a wrong output length rejected.
+#[test]
+fn sample_into_is_sample_at_each_position() {
+    assert_best_isa_detected();
+    let mut rng = Rng(0x5A3B_1E00_77AA_0C01);
+    for case in 0..cases() / 16 {
+        let dims = random_dims(&mut rng);
+        let data = random_u8_volume(&mut rng, dims);
+        let vol = Volume::new(&data, dims)
+            .unwrap()
+            .with_reference_distance(0.5)
+            .unwrap();
+        let step = Step::new([0.5, 1.0, 0.3][case % 3]).unwrap();
+        let ow = RayMarcher::new(
+            vol,
+            OpacityWeighted,
+            Trilinear::new(),
+            FrontToBack::new(),
+            step,
+        )
+        .unwrap();
+        let int = IntRayMarcher::<_, _, _, 8>::new(
+            vol,
+            OpacityWeighted,
+            Trilinear::new(),
+            IntStop::NEVER,
+            step,
+        )
+        .unwrap();
+        let mut pos: Vec<[f32; 3]> = (0..40).map(|_| dims.map(|n| rng.coord(n))).collect();
+        pos.extend([[f32::NAN, 0.0, 1.0], [-3.0, 1e9, 0.5], [0.0; 3]]);
+        for isa in Isa::available() {
+            let mut out = vec![Sample::TRANSPARENT; pos.len()];
+            ow.with_isa(isa).sample_into(&pos, &mut out).unwrap();
+            let mut out_int = vec![IntSample::TRANSPARENT; pos.len()];
+            int.clone()
+                .with_isa(isa)
+                .sample_into(&pos, &mut out_int)
+                .unwrap();
+            for ((p, got), got_int) in pos.iter().zip(&out).zip(&out_int) {
+                let want = ow.with_isa(Isa::BASELINE).sample(*p);
+                assert!(
+                    same_sample(got, &want),
+                    "{isa}, {p:?} in {dims:?}: {got:?} vs {want:?}"
+                );
+                let want = int.clone().with_isa(Isa::BASELINE).sample(*p);
+                assert_eq!(*got_int, want, "{isa}, integer, {p:?} in {dims:?}");
+            }
+        }
+    }
+    let data = [StraightU8([1, 2, 3, 4]); 8];
+    let vol = Volume::new(&data, [2, 2, 2]).unwrap();
+    let step = Step::new(0.5).unwrap();
+    let ow = RayMarcher::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        FrontToBack::new(),
+        step,
+    )
+    .unwrap();
+    let mismatch = Err(volsample::Error::ImageSizeMismatch {
+        expected: 3,
+        actual: 2,
+    });
+    assert_eq!(
+        ow.sample_into(&[[0.5; 3]; 3], &mut [Sample::TRANSPARENT; 2]),
+        mismatch
+    );
+    let int = IntRayMarcher::<_, _, _, 8>::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        IntStop::NEVER,
+        step,
+    )
+    .unwrap();
+    assert_eq!(
+        int.sample_into(&[[0.5; 3]; 3], &mut [IntSample::TRANSPARENT; 2]),
+        mismatch
+    );
+}
+
 /// `render_into` in every instruction set this CPU has (the eight-ray AVX2 packets where it
 /// has AVX2, for parallel and perspective cameras) against the baseline `cast` per pixel, for
 /// widths that leave every remainder, both cameras and both orders.
@@ -532,6 +618,13 @@ fn integer_packets_are_bit_identical_to_single_rays() {
                         one,
                         base.cast_counted(ray),
                         "{what}, {isa}, one ray: {ray:?}"
+                    );
+                    // One sample, where the ray enters the volume.
+                    let p = ray.at(m.sample_range(ray).0);
+                    assert_eq!(
+                        m.clone().with_isa(isa).sample(p),
+                        base.sample(p),
+                        "{what}, {isa}, sample at {p:?}"
                     );
                 }
                 rays_checked += len;

@@ -246,11 +246,11 @@ impl IntKernel for SampleAt<'_> {
         Fl: IntFilter + Sync,
     {
         let m = int_marcher::<V, M, Fl, F>(data, mode, filter, self.p, IntStop::NEVER)?;
-        Ok(self
-            .pos
+        let mut out = vec![IntSample::TRANSPARENT; self.pos.len()];
+        m.sample_into(self.pos, &mut out)?;
+        Ok(out
             .iter()
-            .map(|&q| {
-                let s = m.sample(q);
+            .map(|s| {
                 let c = s.c();
                 [c[0], c[1], c[2], s.a()]
             })

@@ -240,13 +240,9 @@ where
     F: Filter,
 {
     let m = marcher(data, p, mode, filter)?;
-    Ok(pos
-        .iter()
-        .map(|&q| {
-            let s = m.sample(q);
-            [s.c[0], s.c[1], s.c[2], s.a]
-        })
-        .collect())
+    let mut out = vec![Sample::TRANSPARENT; pos.len()];
+    m.sample_into(pos, &mut out)?;
+    Ok(out.iter().map(|s| [s.c[0], s.c[1], s.c[2], s.a]).collect())
 }
 
 /// The voxels a mode reads from the given channels, or why it cannot; `d_ref` is the distance

@@ -60,6 +60,21 @@ macro_rules! in_isa {
 }
 pub(crate) use in_isa;
 
+/// Asks the CPU to bring the cache line holding `v` into its caches: a hint, which changes no
+/// result (`prefetcht0` on x86-64, part of its baseline; nothing elsewhere).
+#[inline(always)]
+pub(crate) fn prefetch<T>(v: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        // SAFETY: SSE, which `_mm_prefetch` needs, is part of x86-64; a prefetch reads nothing
+        // and cannot fault (and `v` is a reference besides).
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(core::ptr::from_ref(v).cast::<i8>()) }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = v;
+}
+
 /// An instruction set the kernels run in: a token that the CPU has it.
 ///
 /// Made only by detection ([`detect`](Self::detect), [`avx2`](Self::avx2),

@@ -251,9 +251,36 @@ where
     }
 
     /// One sample at `pos` (voxel units, clamped and quantized as [`quantize`](Self::quantize)
-    /// does), opacity-corrected for the step.
+    /// does), opacity-corrected for the step. Runs in the marcher's [`Isa`](crate::Isa)
+    /// (integer arithmetic: the same bits in each).
     #[inline]
     pub fn sample(&self, pos: [f32; 3]) -> IntSample {
+        in_isa!(self.isa, self.sample_here(pos))
+    }
+
+    /// [`sample`](Self::sample) at each of `positions` into `out` (the batch form for random
+    /// access: the marcher's [`Isa`](crate::Isa) entered once, the cell of the position eight
+    /// on prefetched), bit for bit.
+    ///
+    /// # Errors
+    /// [`Error::ImageSizeMismatch`] unless `out.len() == positions.len()`.
+    pub fn sample_into(&self, positions: &[[f32; 3]], out: &mut [IntSample]) -> Result<(), Error> {
+        check_len(positions.len(), out.len())?;
+        let vol = self.sampler.volume();
+        in_isa!(self.isa, {
+            for (k, (&p, o)) in positions.iter().zip(out.iter_mut()).enumerate() {
+                if let Some(&ahead) = positions.get(k + super::PREFETCH_AHEAD) {
+                    vol.prefetch_cell(ahead);
+                }
+                *o = self.sample_here(p);
+            }
+        });
+        Ok(())
+    }
+
+    /// [`sample`](Self::sample) in the instruction set of the caller.
+    #[inline(always)]
+    fn sample_here(&self, pos: [f32; 3]) -> IntSample {
         match &self.correction {
             Some(c) => self.sample_with(pos, c),
             None => self.sample_with(pos, &Identity),

@@ -217,9 +217,36 @@ where
     }
 
     /// One sample at `pos` (voxel units), opacity-corrected for the step: the associated
-    /// color and opacity of a segment of length `d`.
+    /// color and opacity of a segment of length `d`. Runs in the marcher's [`Isa`] (the same
+    /// `f32` operations in each, so the same bits).
     #[inline]
     pub fn sample(&self, pos: [f32; 3]) -> Sample {
+        in_isa!(self.isa, self.sample_here(pos))
+    }
+
+    /// [`sample`](Self::sample) at each of `positions` into `out`, bit for bit: the batch form
+    /// for random access, entering the marcher's [`Isa`] once (`sample` enters it per call,
+    /// which the caller's loop cannot inline) and prefetching the cell of the position eight
+    /// on, so that reads from memory overlap.
+    ///
+    /// # Errors
+    /// [`Error::ImageSizeMismatch`] unless `out.len() == positions.len()`.
+    pub fn sample_into(&self, positions: &[[f32; 3]], out: &mut [Sample]) -> Result<(), Error> {
+        check_len(positions.len(), out.len())?;
+        in_isa!(self.isa, {
+            for (k, (&p, o)) in positions.iter().zip(out.iter_mut()).enumerate() {
+                if let Some(&ahead) = positions.get(k + PREFETCH_AHEAD) {
+                    self.volume.prefetch_cell(ahead);
+                }
+                *o = self.sample_here(p);
+            }
+        });
+        Ok(())
+    }
+
+    /// [`sample`](Self::sample) in the instruction set of the caller.
+    #[inline(always)]
+    fn sample_here(&self, pos: [f32; 3]) -> Sample {
         if M::OPACITY_BASED {
             self.sample_with(pos, &self.correction)
         } else {
@@ -458,6 +485,11 @@ where
         )
     }
 }
+
+/// How many positions ahead [`RayMarcher::sample_into`] and `IntRayMarcher::sample_into`
+/// prefetch the cell of: enough for the reads of several
+/// samples to be on their way from memory at once.
+pub(crate) const PREFETCH_AHEAD: usize = 8;
 
 /// Whether [`RayMarcher::cast`] marches front-to-back rays four consecutive samples at a time
 /// in [`F32x4`] lanes (bit-identical to one at a time, `tests/fast_paths.rs`): on targets with

@@ -243,8 +243,9 @@ where
     (over(acc, bg), n)
 }
 
-/// `cast_counted` (which marches four consecutive samples of a ray in lanes), in every
-/// instruction set this CPU has, against [`one_at_a_time`]: bit-identical results and counts.
+/// `cast_counted` (which marches four consecutive samples of a ray in lanes) and
+/// [`one_at_a_time`], in every instruction set this CPU has, against [`one_at_a_time`] in the
+/// baseline instruction set: bit-identical results and counts.
 #[inline(never)]
 pub fn check_sample_lanes<V, M, F, O, S>(
     m: &RayMarcher<'_, V, M, F, O, S>,
@@ -262,12 +263,18 @@ pub fn check_sample_lanes<V, M, F, O, S>(
     for<'a> RayMarcher<'a, V, M, F, O, S>: Copy,
 {
     for ray in rays {
-        let (want, k) = one_at_a_time(m, ray, &done, &empty, bg);
+        let (want, k) = one_at_a_time(&m.with_isa(Isa::BASELINE), ray, &done, &empty, bg);
         for isa in Isa::available() {
             let (got, n) = m.with_isa(isa).cast_counted(ray);
             assert!(
                 same_sample(&got, &want) && n == k,
                 "{what}, {isa}: {ray:?}: lanes {got:?} ({n} samples) vs one at a time {want:?} ({k})"
+            );
+            // `sample` runs in the marcher's instruction set too.
+            let (one, j) = one_at_a_time(&m.with_isa(isa), ray, &done, &empty, bg);
+            assert!(
+                same_sample(&one, &want) && j == k,
+                "{what}, {isa}: {ray:?}: samples {one:?} ({j}) vs the baseline's {want:?} ({k})"
             );
         }
     }
