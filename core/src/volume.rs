@@ -113,9 +113,10 @@ impl<'a, V: Voxel> Volume<'a, V> {
     pub(crate) fn prefetch_cell(&self, pos: [f32; 3]) {
         let [nx, ny, nz] = self.dims;
         // (`as` saturates: NaN and negative positions to 0.)
-        let cell = |p: f32, n: usize| (p as usize).min(n.saturating_sub(1));
+        let last = |n: usize| n.saturating_sub(1);
+        let cell = |p: f32, n: usize| (p as usize).min(last(n));
         let (x, y, z) = (cell(pos[0], nx), cell(pos[1], ny), cell(pos[2], nz));
-        let (y1, z1) = ((y + 1).min(ny - 1), (z + 1).min(nz - 1));
+        let (y1, z1) = ((y + 1).min(last(ny)), (z + 1).min(last(nz)));
         for (y, z) in [(y, z), (y1, z), (y, z1), (y1, z1)] {
             if let Some(v) = self.data.get(x + nx * (y + ny * z)) {
                 crate::arch::prefetch(v);

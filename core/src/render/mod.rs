@@ -487,8 +487,8 @@ where
 }
 
 /// How many positions ahead [`RayMarcher::sample_into`] and `IntRayMarcher::sample_into`
-/// prefetch the cell of: enough for the reads of several
-/// samples to be on their way from memory at once.
+/// prefetch the cell of: enough for the reads of several samples to be on their way from
+/// memory at once.
 pub(crate) const PREFETCH_AHEAD: usize = 8;
 
 /// Whether [`RayMarcher::cast`] marches front-to-back rays four consecutive samples at a time
