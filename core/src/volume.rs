@@ -1,5 +1,6 @@
 //! Volume views over caller-owned voxel slices.
 
+use crate::each::Each;
 use crate::error::Error;
 use crate::voxel::{Voxel, VoxelFault};
 
@@ -106,19 +107,17 @@ impl<'a, V: Voxel> Volume<'a, V> {
     }
 
     /// Prefetches ([`arch::prefetch`](crate::arch::prefetch)) the voxels of the cell at
-    /// `pos` (voxel units; clamped into the grid, NaN as 0): the first voxel of each of its
-    /// four rows along x, where a trilinear sample there reads (its second voxel is the next
-    /// one). A hint: nothing is read.
+    /// `pos` (voxel units; clamped into the grid by [`clamp_index`](Self::clamp_index), NaN
+    /// as 0): the first voxel of each of its four rows along x, where a trilinear sample there
+    /// reads (its second voxel is the next one). A hint: nothing is read.
     #[inline(always)]
     pub(crate) fn prefetch_cell(&self, pos: [f32; 3]) {
-        let [nx, ny, nz] = self.dims;
-        // (`as` saturates: NaN and negative positions to 0.)
-        let last = |n: usize| n.saturating_sub(1);
-        let cell = |p: f32, n: usize| (p as usize).min(last(n));
-        let (x, y, z) = (cell(pos[0], nx), cell(pos[1], ny), cell(pos[2], nz));
-        let (y1, z1) = ((y + 1).min(last(ny)), (z + 1).min(last(nz)));
-        for (y, z) in [(y, z), (y1, z), (y, z1), (y1, z1)] {
-            if let Some(v) = self.data.get(x + nx * (y + ny * z)) {
+        let [nx, ny, _] = self.dims;
+        // (`as` saturates, NaN to 0; `clamp_index` brings the rest into the grid.)
+        let [x, y, z] = pos.each(|p| p as isize);
+        for (dy, dz) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let [cx, cy, cz] = self.clamp_index([x, y.saturating_add(dy), z.saturating_add(dz)]);
+            if let Some(v) = self.data.get(cx + nx * (cy + ny * cz)) {
                 crate::arch::prefetch(v);
             }
         }

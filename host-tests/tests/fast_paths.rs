@@ -298,6 +298,7 @@ fn integer_interior_path_and_quantization_are_bit_identical() {
     }
 }
 
+/// `cast_rays` and `sample_into` (float and integer) reject an output of the wrong length.
 #[test]
 fn cast_rays_rejects_a_wrong_output_length() {
     let data = [StraightU8([1, 2, 3, 4]); 8];
@@ -320,12 +321,33 @@ fn cast_rays_rejects_a_wrong_output_length() {
             actual: 4
         })
     );
+    // And the batch samples, float and integer.
+    let mismatch = Err(volsample::Error::ImageSizeMismatch {
+        expected: 3,
+        actual: 2,
+    });
+    assert_eq!(
+        m.sample_into(&[[0.5; 3]; 3], &mut [Sample::TRANSPARENT; 2]),
+        mismatch
+    );
+    let int = IntRayMarcher::<_, _, _, 8>::new(
+        vol,
+        OpacityWeighted,
+        Trilinear::new(),
+        IntStop::NEVER,
+        step,
+    )
+    .unwrap();
+    assert_eq!(
+        int.sample_into(&[[0.5; 3]; 3], &mut [IntSample::TRANSPARENT; 2]),
+        mismatch
+    );
 }
 
 /// `sample_into` (the batch form: the instruction set entered once, the cells ahead
 /// prefetched), float and integer, in every instruction set this CPU has, against `sample` in
 /// the baseline instruction set at each position: random positions in and around the grid,
-/// NaN and far outside; and a wrong output length rejected.
+/// NaN and far outside (a wrong output length: `cast_rays_rejects_a_wrong_output_length`).
 #[test]
 fn sample_into_is_sample_at_each_position() {
     assert_best_isa_detected();
@@ -375,37 +397,6 @@ fn sample_into_is_sample_at_each_position() {
             }
         }
     }
-    let data = [StraightU8([1, 2, 3, 4]); 8];
-    let vol = Volume::new(&data, [2, 2, 2]).unwrap();
-    let step = Step::new(0.5).unwrap();
-    let ow = RayMarcher::new(
-        vol,
-        OpacityWeighted,
-        Trilinear::new(),
-        FrontToBack::new(),
-        step,
-    )
-    .unwrap();
-    let mismatch = Err(volsample::Error::ImageSizeMismatch {
-        expected: 3,
-        actual: 2,
-    });
-    assert_eq!(
-        ow.sample_into(&[[0.5; 3]; 3], &mut [Sample::TRANSPARENT; 2]),
-        mismatch
-    );
-    let int = IntRayMarcher::<_, _, _, 8>::new(
-        vol,
-        OpacityWeighted,
-        Trilinear::new(),
-        IntStop::NEVER,
-        step,
-    )
-    .unwrap();
-    assert_eq!(
-        int.sample_into(&[[0.5; 3]; 3], &mut [IntSample::TRANSPARENT; 2]),
-        mismatch
-    );
 }
 
 /// `render_into` in every instruction set this CPU has (the eight-ray AVX2 packets where it
