@@ -157,8 +157,8 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
             let [(fx, x0, x1, qx), (fy, y0, y1, qy), (fz, z0, z1, qz)] = map3(axes, split);
             let row = |y, z| _mm256_add_epi32(_mm256_mullo_epi32(y, sx), _mm256_mullo_epi32(z, sy));
             // The prefetch (with the reuse, whose branches would otherwise leave the remaining
-            // reads waiting on memory): lanes 0 and 7 of the four tap rows ahead. Its addresses
-            // may lie outside the data (`wrapping_offset`, never dereferenced).
+            // reads waiting on memory): the four tap rows ahead, from lane 0 to lane 7. Its
+            // addresses may lie outside the data (`wrapping_offset`, never dereferenced).
             if REUSE {
                 let q = _mm256_add_epi32(qx, row(qy, qz));
                 // Along y or z, the two rows on the near side of the major axis (a far row ahead
@@ -171,10 +171,20 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
                 };
                 for r in rows.into_iter().take(if A == 0 { 4 } else { 2 }) {
                     let [a0, .., a7] = to_i32s(_mm256_add_epi32(q, r));
-                    for l in [a0, a7] {
-                        let p = data.as_ptr().wrapping_offset(l as isize);
-                        _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>());
+                    // Every line from lane 0's first tap to lane 7's second: one or two of
+                    // RGBA8 voxels for a packet along a row of pixels, three or four of
+                    // 16-byte ones (see the module docs). Lanes further apart (not a row) get
+                    // the two ends only.
+                    let at = |l: i32| data.as_ptr().wrapping_offset(l as isize).cast::<i8>();
+                    let (first, end) = (at(a0), at(a7.wrapping_add(2)));
+                    let span = (end as usize).wrapping_sub(first as usize);
+                    _mm_prefetch::<_MM_HINT_T0>(first);
+                    if span <= 4 * 64 {
+                        for k in (64..span).step_by(64) {
+                            _mm_prefetch::<_MM_HINT_T0>(first.wrapping_add(k));
+                        }
                     }
+                    _mm_prefetch::<_MM_HINT_T0>(end.wrapping_sub(1));
                 }
             }
             let (r00, r10, r01, r11) = (row(y0, z0), row(y1, z0), row(y0, z1), row(y1, z1));

@@ -77,13 +77,17 @@
 //! the cell of the last step (at step 0.5 a ray stays in a cell for about two samples) nothing
 //! is read or converted; when every lane has moved on by one cell along the packet's major
 //! axis (that of the direction's largest component), the four taps of the cell's far face
-//! become the near face and only the new far face is read. Each step also prefetches, for
-//! lanes 0 and 7, the tap rows of the sample [`PREFETCH_STEPS`] steps ahead (along y or z
-//! the two on the near side of the major axis, whose far rows are near rows a cell further
-//! on; along x all four): without it, the reads that remain (behind the reuse's branches)
-//! wait on memory; a prefetch never faults, so its address needs no bounds check. On the
-//! 256³ bench this took the packets from 7.4 to about 5.15 ns/sample (with all four rows,
-//! four steps ahead; two rows six steps ahead took a probe from 4.87–4.89 to 4.51–4.52).
+//! become the near face and only the new far face is read. Each step also prefetches the tap
+//! rows of the sample [`PREFETCH_STEPS`] steps ahead (along y or z the two on the near side
+//! of the major axis, whose far rows are near rows a cell further on; along x all four),
+//! every cache line from lane 0's first tap to lane 7's second: without it, the reads that
+//! remain (behind the reuse's branches) wait on memory; a prefetch never faults, so its
+//! address needs no bounds check. On the 256³ bench this took the packets from 7.4 to about
+//! 5.15 ns/sample (with all four rows, four steps ahead; two rows six steps ahead took a probe
+//! from 4.87–4.89 to 4.51–4.52). Lanes 0 and 7 alone (one or two lines of RGBA8 voxels)
+//! leave the middle lines of a row of 16-byte voxels (three or four lines) unfetched: on an
+//! Intel Xeon the 16-byte extinction packets then took 1.66–1.88 times the RGBA8
+//! `OpacityWeighted` packets' time, 1.05–1.25 with every line.
 //! Rays of different directions (a perspective view) leave their cells at different steps;
 //! there the reuse cost a quarter more time in a probe (10.4 against 8.3 ns/sample), so such
 //! packets read and convert every tap at every step.
@@ -176,7 +180,7 @@ fn run_avx2<R>(f: impl FnOnce() -> R) -> R {
     f()
 }
 
-/// How many steps ahead each step prefetches the voxels (of lanes 0 and 7: in a packet of a
+/// How many steps ahead each step prefetches the voxels (from lane 0 to lane 7: in a packet of a
 /// row of pixels the others lie between them).
 const PREFETCH_STEPS: f32 = 6.0;
 
