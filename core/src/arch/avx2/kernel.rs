@@ -8,7 +8,8 @@ use super::*;
 use crate::each::Each;
 
 /// [`march8`] in AVX2, of the kind `K` ([`Kind`]); where `REUSE` (parallel rays), the taps'
-/// channels kept as faces across axis `A` ([`Cell`]) and the voxels ahead prefetched.
+/// channels kept as faces across axis `A` ([`Cell`]) and the voxels ahead prefetched (with
+/// `ONE`, the tap rows two steps ahead).
 /// Returns the accumulated `[r, g, b, α]` lanes as bit patterns.
 ///
 /// The lanes march their [`Samples`]: at step `j`, lane `l` is at sample `first + j`, at
@@ -50,7 +51,13 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
         rays.each_ref().each(Ray::origin),
         rays.each_ref().each(Ray::dir),
     );
-    let lead = PREFETCH_STEPS * d;
+    // With `ONE` a step is eight samples: the prefetch looks two steps ahead.
+    let ahead = if ONE {
+        2.0 * LANES as f32
+    } else {
+        PREFETCH_STEPS
+    };
+    let lead = ahead * d;
     let axis = |o: [f32; LANES], d: [f32; LANES], n: i32| {
         (
             lanes(o),
@@ -185,6 +192,21 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
                         }
                     }
                     _mm_prefetch::<_MM_HINT_T0>(end.wrapping_sub(1));
+                }
+            }
+            // With `ONE`, the four tap rows of lanes 0 and 4 two steps ahead (along z, lane 0's
+            // far rows are lane 2's near ones; the next step's lane 0 covers lane 6): each from
+            // its first tap's line to its second's.
+            if ONE {
+                let [a0, _, _, _, a4, ..] = to_i32s(_mm256_add_epi32(qx, row(qy, qz)));
+                let at = |l: i32| data.as_ptr().wrapping_offset(l as isize).cast::<i8>();
+                for a in [a0, a4] {
+                    let plane = nx.wrapping_mul(ny);
+                    for r in [0, nx, plane, plane.wrapping_add(nx)] {
+                        let first = a.wrapping_add(r);
+                        _mm_prefetch::<_MM_HINT_T0>(at(first));
+                        _mm_prefetch::<_MM_HINT_T0>(at(first.wrapping_add(2)).wrapping_sub(1));
+                    }
                 }
             }
             let (r00, r10, r01, r11) = (row(y0, z0), row(y1, z0), row(y0, z1), row(y1, z1));
