@@ -89,7 +89,22 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
     let dv = _mm256_set1_ps(d);
     let zf = _mm256_setzero_ps();
     let zero = _mm256_setzero_si256();
-    let (sx, sy) = (_mm256_set1_epi32(nx), _mm256_set1_epi32(nx * ny));
+    let plane = nx * ny;
+    let (sx, sy) = (_mm256_set1_epi32(nx), _mm256_set1_epi32(plane));
+    // The first byte of voxel `l`, and the prefetch of every cache line of the bytes from
+    // `first` to `end` (where that span is over four lines, of its two ends only). The
+    // addresses may lie outside the data (`wrapping_offset`, never dereferenced).
+    let voxel = |l: i32| data.as_ptr().wrapping_offset(l as isize).cast::<i8>();
+    let lines = |first: *const i8, end: *const i8| {
+        let span = (end as usize).wrapping_sub(first as usize);
+        _mm_prefetch::<_MM_HINT_T0>(first);
+        if span <= 4 * 64 {
+            for k in (64..span).step_by(64) {
+                _mm_prefetch::<_MM_HINT_T0>(first.wrapping_add(k));
+            }
+        }
+        _mm_prefetch::<_MM_HINT_T0>(end.wrapping_sub(1));
+    };
 
     // The sample of the sums `s` (`Kind::finish`) composited onto `acc` in the live lanes.
     let over = |acc: [__m256; 4], s: [__m256; 4], live: __m256| {
@@ -164,8 +179,7 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
             let [(fx, x0, x1, qx), (fy, y0, y1, qy), (fz, z0, z1, qz)] = map3(axes, split);
             let row = |y, z| _mm256_add_epi32(_mm256_mullo_epi32(y, sx), _mm256_mullo_epi32(z, sy));
             // The prefetch (with the reuse, whose branches would otherwise leave the remaining
-            // reads waiting on memory): the four tap rows ahead, from lane 0 to lane 7. Its
-            // addresses may lie outside the data (`wrapping_offset`, never dereferenced).
+            // reads waiting on memory): the four tap rows ahead, from lane 0 to lane 7.
             if REUSE {
                 let q = _mm256_add_epi32(qx, row(qy, qz));
                 // Along y or z, the two rows on the near side of the major axis (a far row ahead
@@ -182,16 +196,7 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
                     // RGBA8 voxels for a packet along a row of pixels, three or four of
                     // 16-byte ones (see the module docs). Lanes further apart (not a row) get
                     // the two ends only.
-                    let at = |l: i32| data.as_ptr().wrapping_offset(l as isize).cast::<i8>();
-                    let (first, end) = (at(a0), at(a7.wrapping_add(2)));
-                    let span = (end as usize).wrapping_sub(first as usize);
-                    _mm_prefetch::<_MM_HINT_T0>(first);
-                    if span <= 4 * 64 {
-                        for k in (64..span).step_by(64) {
-                            _mm_prefetch::<_MM_HINT_T0>(first.wrapping_add(k));
-                        }
-                    }
-                    _mm_prefetch::<_MM_HINT_T0>(end.wrapping_sub(1));
+                    lines(voxel(a0), voxel(a7.wrapping_add(2)));
                 }
             }
             // With `ONE`, the four tap rows of lanes 0 and 4 two steps ahead (along z, lane 0's
@@ -199,13 +204,10 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
             // its first tap's line to its second's.
             if ONE {
                 let [a0, _, _, _, a4, ..] = to_i32s(_mm256_add_epi32(qx, row(qy, qz)));
-                let at = |l: i32| data.as_ptr().wrapping_offset(l as isize).cast::<i8>();
                 for a in [a0, a4] {
-                    let plane = nx.wrapping_mul(ny);
                     for r in [0, nx, plane, plane.wrapping_add(nx)] {
-                        let first = a.wrapping_add(r);
-                        _mm_prefetch::<_MM_HINT_T0>(at(first));
-                        _mm_prefetch::<_MM_HINT_T0>(at(first.wrapping_add(2)).wrapping_sub(1));
+                        let first = voxel(a.wrapping_add(r));
+                        lines(first, first.wrapping_add(2 * size_of::<V>()));
                     }
                 }
             }
