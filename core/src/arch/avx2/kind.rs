@@ -125,9 +125,8 @@ impl ReadTaps for TauOfAlpha8 {
     #[target_feature(enable = "avx2,fma")]
     unsafe fn channels(word: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
         let [r, g, b, _] = channels(word);
-        // One gather for the eight lanes (with eight scalar lookups, each inserted into the
-        // vector, the one-ray march of `ExtinctionWeightedU8` took 1.26-1.28 of the
-        // `OpacityWeighted` one's time on an Intel Xeon, 1.14-1.22 with the gather).
+        // One gather for the eight lanes (faster than eight scalar lookups, each inserted into
+        // the vector: the performance log, 2026-12-05).
         // SAFETY: every index is the top byte of a lane (`0..=255`), inside `taus`' 256 `f32`s;
         // AVX2, which the gather needs, is this function's contract.
         let tau = unsafe { _mm256_i32gather_ps::<4>(taus.as_ptr(), _mm256_srli_epi32::<24>(word)) };
