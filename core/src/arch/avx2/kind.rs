@@ -5,9 +5,15 @@
 //! `OpacityWeighted` pipeline at `F = 8` ([`IntOw`]). The eight-lane kernel ([`march8_avx2`]) is
 //! written once over it, as the AVX2 instance of the one march loop (`crate::march`).
 //!
-//! Every method is an `unsafe fn` compiled for AVX2 and FMA (`#[target_feature]`, inlined into
-//! the kernel, which is compiled so too): its one requirement is a CPU with AVX2 and FMA, which
-//! the kernel's callers prove with an [`Avx2`] token.
+//! Every method is an `unsafe fn` compiled for AVX2 and FMA, inlined into the kernel, which is
+//! compiled so too: its one requirement is a CPU with AVX2 and FMA, which the kernel's callers
+//! prove with an [`Avx2`] token. Most carry `#[target_feature]` and an `#[inline]` hint; the
+//! reads of a face of both kinds and the integer kind's tap sums are `#[inline(always)]`
+//! instead (which `#[target_feature]` does not allow), compiled in the kernel's instruction
+//! set once inlined: with the hint alone LLVM kept them as calls in the step loop, whose
+//! arguments and results then went through memory (the performance log, 2026-12-06, has the
+//! effect). The float kinds' `tap_sums` keeps the hint: inlined into the loop of the packets
+//! of rays in every direction, it made them slower.
 
 use core::arch::x86_64::*;
 
@@ -208,8 +214,7 @@ impl<M: LaneMode> Kind for M {
     /// Across y or z, a face's taps are two x pairs (`face`), read as such where the taps
     /// allow; across x, none. The branch on `inside` is taken once per face, outside the
     /// taps' loop.
-    #[inline]
-    #[target_feature(enable = "avx2,fma")]
+    #[inline(always)]
     unsafe fn read_face<V: Voxel, const A: usize>(
         out: &mut [[__m256; 4]; 4],
         taps: &Taps<'_, V>,
@@ -220,7 +225,7 @@ impl<M: LaneMode> Kind for M {
         if A != 0 && taps.pairs() {
             let [t0, t1] = taps.load_pair(k0);
             let [t2, t3] = taps.load_pair(k2);
-            // SAFETY: the caller's contract (AVX2 and FMA), which this function has too; so
+            // SAFETY: the caller's contract (AVX2 and FMA), on which this function runs; so
             // below.
             *out = map4([t0, t1, t2, t3], |t| unsafe {
                 <M::Taps as ReadTaps>::channels(t, taus)
@@ -383,8 +388,7 @@ impl Kind for IntOw {
     /// The face's words, then its two pairs (places 0 and 1, 2 and 3: neighbours along x, or
     /// along y for a face across x) packed for [`int_sums`], held at places 0 and 2, and again
     /// at 1 and 3 ([`int_pair`]).
-    #[inline]
-    #[target_feature(enable = "avx2,fma")]
+    #[inline(always)]
     unsafe fn read_face<V: Voxel, const A: usize>(
         out: &mut [[__m256; 4]; 4],
         taps: &Taps<'_, V>,
@@ -425,8 +429,7 @@ impl Kind for IntOw {
     }
 
     /// Pairs along x: taps `2j` and `2j + 1`.
-    #[inline]
-    #[target_feature(enable = "avx2,fma")]
+    #[inline(always)]
     unsafe fn tap_sums<V: Voxel>(
         taps: &Taps<'_, V>,
         f: [__m256; 3],
