@@ -73,4 +73,10 @@ criterion_group! {
     config = Criterion::default().without_plots();
     targets = bench
 }
+
+/// Volumes of 4 MiB and more in 2 MiB pages where Linux offers them, as the CLI allocates them
+/// (`volsample_host::memory`).
+#[global_allocator]
+static ALLOCATOR: volsample_host::memory::HugePages = volsample_host::memory::HugePages;
+
 criterion_main!(benches);

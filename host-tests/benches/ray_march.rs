@@ -46,6 +46,9 @@
 //! Every row consumes all four channels of every pixel (a sum of `α` and `C̃`), so no
 //! arithmetic can be dropped as unused.
 //!
+//! The volumes are allocated as the CLI allocates its own: by `volsample_host::memory`'s
+//! `HugePages` (2 MiB pages where Linux offers them; every bench of this package does so).
+//!
 //! `VOLSAMPLE_BENCH_QUICK=1` shortens the measurement (for a quick look, not for the table);
 //! `VOLSAMPLE_BENCH_ROUNDS=1` prints every interleaved round's ns/sample.
 
@@ -781,4 +784,10 @@ criterion_group! {
     config = Criterion::default().without_plots();
     targets = bench
 }
+
+/// Volumes of 4 MiB and more in 2 MiB pages where Linux offers them, as the CLI allocates them
+/// (`volsample_host::memory`).
+#[global_allocator]
+static ALLOCATOR: volsample_host::memory::HugePages = volsample_host::memory::HugePages;
+
 criterion_main!(benches);

@@ -2,9 +2,10 @@
 //! pieces the `volsample` CLI and the tests share.
 //!
 //! Without the default feature `app` only the models remain (`reference`, `int_model`,
-//! `tolerance`, `float_checks`), with no dependency beyond the core and std. The feature
-//! `checks` adds the fuzz targets' oracles (`checks`, `kernel_checks`, and `FloatCase`'s render
-//! comparisons), with `arbitrary`; the fuzz targets build it so, the CLI does not. The feature
+//! `tolerance`, `float_checks`) and the allocator `memory`, with no dependency beyond the core,
+//! std and (on Linux, for `memory`) `libc`. The feature `checks` adds the fuzz targets'
+//! oracles (`checks`, `kernel_checks`, and `FloatCase`'s render comparisons), with
+//! `arbitrary`; the fuzz targets build it so, the CLI does not. The feature
 //! `loaders` (part of `app`) adds the scenes, the file loaders and `vectors` (with `checks`,
 //! also `parser_checks`), for the parser and `vectors` fuzz targets; `marcher-checks` the
 //! marcher checks (`marcher_checks`, the `int_marcher` check); `testing` (the tests and
@@ -30,6 +31,7 @@ pub mod kernel_checks;
 pub mod kraus;
 #[cfg(feature = "marcher-checks")]
 pub mod marcher_checks;
+pub mod memory;
 #[cfg(feature = "app")]
 pub mod out;
 #[cfg(all(feature = "loaders", feature = "checks"))]

@@ -10,6 +10,11 @@ use volsample_host::report;
 use volsample_host::scene::{generate, load, phantom, Scene};
 use volsample_host::view;
 
+/// Volumes and images of 4 MiB and more in 2 MiB pages where Linux offers them
+/// (`volsample_host::memory`).
+#[global_allocator]
+static ALLOCATOR: volsample_host::memory::HugePages = volsample_host::memory::HugePages;
+
 /// Sample and composite RGBA volumes, and show what each sampling choice costs in accuracy
 /// and in time.
 #[derive(Parser, Debug)]
