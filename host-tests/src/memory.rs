@@ -37,10 +37,11 @@ const HUGE_PAGE: usize = 2 << 20;
 pub struct HugePages;
 
 impl HugePages {
-    /// Asks for 2 MiB pages for the whole huge pages inside `[ptr, ptr + size)`, where
-    /// `size ≥ HUGE_FROM`; returns whether the kernel accepted (`false` without Linux's
-    /// transparent huge pages, and for a smaller `size`).
-    pub fn advise(ptr: *mut u8, size: usize) -> bool {
+    /// Asks for 2 MiB pages for the whole huge pages inside the block `[ptr, ptr + size)` the
+    /// system allocator has just returned, where `size ≥ HUGE_FROM`; returns whether the
+    /// kernel accepted (`false` without Linux's transparent huge pages, and for a smaller
+    /// `size`). Private: `advise_huge`'s proof rests on the range being such a block.
+    fn advise(ptr: *mut u8, size: usize) -> bool {
         if ptr.is_null() || size < HUGE_FROM {
             return false;
         }
