@@ -92,6 +92,8 @@ pub struct IntRatio {
 
 impl IntRatio {
     /// The quantized ratio as a `fixed` U32.32 number (the same bits as the kernel uses).
+    /// With the feature `fixed` (on by default).
+    #[cfg(feature = "fixed")]
     pub fn to_fixed(&self) -> fixed::types::U32F32 {
         fixed::types::U32F32::from_bits(self.raw)
     }

@@ -68,13 +68,16 @@ fn depth_raw(a: f64) -> u32 {
 
 impl ExtinctionFx {
     /// The optical depth `D = τ·d′` as a `fixed` U12.20 number (the same bits as
-    /// [`tau`](Self::tau); values never exceed [`MAX_DEPTH_RAW`], i.e. 64).
+    /// [`tau`](Self::tau); values never exceed [`MAX_DEPTH_RAW`], i.e. 64). With the feature
+    /// `fixed` (on by default).
+    #[cfg(feature = "fixed")]
     pub fn depth(&self) -> fixed::types::U12F20 {
         fixed::types::U12F20::from_bits(self.tau)
     }
 
     /// `D·C` per channel as `fixed` U12.20 numbers (the same bits as
-    /// [`c_tau`](Self::c_tau)).
+    /// [`c_tau`](Self::c_tau)). With the feature `fixed` (on by default).
+    #[cfg(feature = "fixed")]
     pub fn depth_color(&self) -> [fixed::types::U12F20; 3] {
         self.c_tau.map(fixed::types::U12F20::from_bits)
     }

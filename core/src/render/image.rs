@@ -57,31 +57,34 @@ fn check_image(width: usize, height: usize, len: usize) -> Result<(), Error> {
 }
 
 /// Fills rows `first ..` of a `width × height` image (row-major, row 0 at the top; `image`
-/// holds the band's rows) by `cast_rays` of eight pixels of a row at a time (a short last
-/// chunk of a row: its own pixels only): the eight-ray packets' pixel loop of both ray
-/// marchers.
-///
-/// # Errors
-/// Those of `cast_rays`.
-fn trace_rows8<P, Cam: Camera>(
+/// holds the band's rows) by `cast8` of eight pixels of a row at a time: the eight-ray
+/// packets' pixel loop of both ray marchers. A short last chunk of a row fills the lanes by
+/// repeating its last pixel's ray and keeps only its own pixels (each lane's result is that
+/// of its ray alone, so the repeats change nothing).
+#[cfg(target_arch = "x86_64")]
+fn trace_rows8<P: Copy, Cam: Camera>(
     camera: &Cam,
     (width, height): (usize, usize),
     first: usize,
     image: &mut [P],
-    mut cast_rays: impl FnMut(&[Ray], &mut [P]) -> Result<(), Error>,
-) -> Result<(), Error> {
+    mut cast8: impl FnMut(&[Ray; 8], &mut [P; 8]),
+) {
     for (j, row) in image.chunks_exact_mut(width).enumerate() {
         let j = first + j;
         for (k, px) in row.chunks_mut(8).enumerate() {
             let i0 = 8 * k;
-            // A short last chunk repeats its last pixel's ray; only `px.len()` are cast.
             let rays: [Ray; 8] =
                 crate::each::build(|l| camera.ray((i0 + l).min(width - 1), j, width, height));
-            let rays = rays.get(..px.len()).unwrap_or(&rays);
-            cast_rays(rays, px)?;
+            let Some(&p0) = px.first() else {
+                continue;
+            };
+            let mut out = [p0; 8];
+            cast8(&rays, &mut out);
+            for (p, o) in px.iter_mut().zip(out) {
+                *p = o;
+            }
         }
     }
-    Ok(())
 }
 
 /// Fills rows `first ..` of a `width × height` image (`image` holds the band's rows) with
@@ -101,44 +104,60 @@ fn trace_image<P, Cam: Camera>(
     }
 }
 
-/// The image of both ray marchers' `render_into` (`rows: None`, the whole image) and
+/// Checks the image of both ray marchers' `render_into` (`rows: None`, the whole image) and
 /// `render_rows_into` (`rows: Some(first)`, the band of rows from `first` that `image`
-/// holds): where `packets`, eight pixels of a row at a time by `cast_rays` (as many rays as
-/// outputs; [`trace_rows8`]), else each pixel by `cast` ([`trace_image`]). Every pixel is
-/// the same whether rendered in the whole image or in a band.
+/// holds) and returns its first row.
 ///
 /// # Errors
 /// [`Error::EmptyImage`] for a zero width or height; [`Error::ImageSizeMismatch`] unless
 /// `image.len()` is `width·height` (whole image) or a multiple of `width` (band);
 /// [`Error::RowsOutsideImage`] for a band that does not lie in the image.
+fn first_row(
+    (width, height): (usize, usize),
+    rows: Option<usize>,
+    len: usize,
+) -> Result<usize, Error> {
+    match rows {
+        None => check_image(width, height, len).map(|()| 0),
+        Some(first) => check_rows(width, height, first, len).map(|_| first),
+    }
+}
+
+/// The image (or band, see [`first_row`]) of both ray marchers' `render_into` and
+/// `render_rows_into` where the eight-ray kernel applies: eight pixels of a row at a time by
+/// `cast8` ([`trace_rows8`]). Every pixel is the same whether rendered in the whole image or
+/// in a band, and the same as [`render_each`]'s.
+///
+/// # Errors
+/// Those of [`first_row`].
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
-pub(crate) fn render_image<P, Cam: Camera>(
+pub(crate) fn render_packets<P: Copy, Cam: Camera>(
     camera: &Cam,
     size: (usize, usize),
     rows: Option<usize>,
     image: &mut [P],
-    packets: bool,
-    mut cast_rays: impl FnMut(&[Ray], &mut [P]),
+    cast8: impl FnMut(&[Ray; 8], &mut [P; 8]),
+) -> Result<(), Error> {
+    let first = first_row(size, rows, image.len())?;
+    trace_rows8(camera, size, first, image, cast8);
+    Ok(())
+}
+
+/// The image (or band, see [`first_row`]) of both ray marchers' `render_into` and
+/// `render_rows_into` elsewhere: each pixel by `cast` of its ray ([`trace_image`]).
+///
+/// # Errors
+/// Those of [`first_row`].
+#[inline(always)]
+pub(crate) fn render_each<P, Cam: Camera>(
+    camera: &Cam,
+    size: (usize, usize),
+    rows: Option<usize>,
+    image: &mut [P],
     cast: impl Fn(&Ray) -> P,
 ) -> Result<(), Error> {
-    let first = match rows {
-        None => {
-            check_image(size.0, size.1, image.len())?;
-            0
-        }
-        Some(first) => {
-            check_rows(size.0, size.1, first, image.len())?;
-            first
-        }
-    };
-    if packets {
-        trace_rows8(camera, size, first, image, |rays, px| {
-            check_len(rays.len(), px.len())?;
-            cast_rays(rays, px);
-            Ok(())
-        })
-    } else {
-        trace_image(camera, size, first, image, cast);
-        Ok(())
-    }
+    let first = first_row(size, rows, image.len())?;
+    trace_image(camera, size, first, image, cast);
+    Ok(())
 }

@@ -23,7 +23,9 @@
 //! the feature `sse2`). The positions, taps and compositing order are those of one sample at
 //! a time, so the results are too.
 
-use super::{check_len, render_image, Step, MAX_SAMPLES_PER_RAY};
+#[cfg(target_arch = "x86_64")]
+use super::render_packets;
+use super::{check_len, render_each, Step, MAX_SAMPLES_PER_RAY};
 use crate::arch::{in_isa, Isa};
 use crate::each::Each;
 use crate::error::Error;
@@ -528,17 +530,24 @@ where
         first_row: Option<usize>,
         image: &mut [IntSample],
     ) -> Result<(), Error> {
+        // As the float marcher's: the eight-ray kernel only in the AVX2 instance.
+        #[cfg(target_arch = "x86_64")]
+        if let Some(cpu) = self.isa.avx2_token().filter(|_| self.eight_ray_packets()) {
+            return cpu.run(|| {
+                render_packets(camera, size, first_row, image, |rays, out| {
+                    let (rest, out) = self.cast_rays8(rays, out);
+                    // None (the kernel applies); cast as `cast` would all the same.
+                    for (r, o) in rest.iter().zip(out) {
+                        *o = self.cast(r);
+                    }
+                })
+            });
+        }
         in_isa!(
             self.isa,
-            render_image(
-                camera,
-                size,
-                first_row,
-                image,
-                self.eight_ray_packets(),
-                |rays, px| self.cast_rays_here(rays, px),
-                |ray| self.cast_counted_here(ray).0,
-            )
+            render_each(camera, size, first_row, image, |ray| {
+                self.cast_counted_here(ray).0
+            })
         )
     }
 }

@@ -40,7 +40,9 @@ mod one_ray;
 mod packets;
 mod step;
 
-pub(crate) use image::{check_len, render_image};
+#[cfg(target_arch = "x86_64")]
+pub(crate) use image::render_packets;
+pub(crate) use image::{check_len, render_each};
 pub use int_marcher::IntRayMarcher;
 pub use step::Step;
 
@@ -471,17 +473,25 @@ where
         first_row: Option<usize>,
         image: &mut [Sample],
     ) -> Result<(), Error> {
+        // The eight-ray kernel only in the AVX2 instance, the one-ray march in both: each
+        // instance holds only the paths it can take.
+        #[cfg(target_arch = "x86_64")]
+        if let Some(cpu) = self.isa.avx2_token().filter(|_| self.eight_ray_packets()) {
+            return cpu.run(|| {
+                render_packets(camera, size, first_row, image, |rays, out| {
+                    let (rest, out) = self.cast_rays8(rays, out);
+                    // None (the kernel applies); cast as `cast` would all the same.
+                    for (r, o) in rest.iter().zip(out) {
+                        *o = self.cast(r);
+                    }
+                })
+            });
+        }
         in_isa!(
             self.isa,
-            render_image(
-                camera,
-                size,
-                first_row,
-                image,
-                self.eight_ray_packets(),
-                |rays, px| self.cast_rays_here(rays, px),
-                |ray| self.cast_counted_here(ray).0,
-            )
+            render_each(camera, size, first_row, image, |ray| {
+                self.cast_counted_here(ray).0
+            })
         )
     }
 }
