@@ -480,7 +480,8 @@ where
             return cpu.run(|| {
                 render_packets(camera, size, first_row, image, |rays, out| {
                     let (rest, out) = self.cast_rays8(rays, out);
-                    // None (the kernel applies); cast as `cast` would all the same.
+                    // Empty: the kernel applies (`eight_ray_packets`); any rest would be cast
+                    // one ray at a time.
                     for (r, o) in rest.iter().zip(out) {
                         *o = self.cast(r);
                     }
