@@ -1,5 +1,6 @@
 //! The pixel loops and image checks shared by the float and the integer ray marchers.
 
+use crate::arch::Isa;
 use crate::error::Error;
 use crate::ray::{Camera, Ray};
 
@@ -132,7 +133,7 @@ fn first_row(
 /// Those of [`first_row`].
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-pub(crate) fn render_packets<P: Copy, Cam: Camera>(
+fn render_packets<P: Copy, Cam: Camera>(
     camera: &Cam,
     size: (usize, usize),
     rows: Option<usize>,
@@ -150,7 +151,7 @@ pub(crate) fn render_packets<P: Copy, Cam: Camera>(
 /// # Errors
 /// Those of [`first_row`].
 #[inline(always)]
-pub(crate) fn render_each<P, Cam: Camera>(
+fn render_each<P, Cam: Camera>(
     camera: &Cam,
     size: (usize, usize),
     rows: Option<usize>,
@@ -160,4 +161,41 @@ pub(crate) fn render_each<P, Cam: Camera>(
     let first = first_row(size, rows, image.len())?;
     trace_image(camera, size, first, image, cast);
     Ok(())
+}
+
+/// The body of both ray marchers' `render_into` (`rows: None`) and `render_rows_into`
+/// (`rows: Some(first)`) for the marcher `m` in its instruction set `isa`. Where `packets`
+/// holds (the marcher's eight-ray kernel applies) and `isa` is AVX2, eight pixels of a row at
+/// a time ([`render_packets`]) by `cast_rays8`, which casts the leading multiple of eight rays
+/// and returns the rest, and `cast` of each ray of the rest (none while the kernel applies);
+/// otherwise each pixel by `cast` ([`render_each`]), which enters the marcher's instruction
+/// set per ray: the one-ray march is compiled once per instruction set, shared with `cast`,
+/// and only the AVX2 instance with the packets.
+///
+/// # Errors
+/// Those of [`first_row`].
+#[inline(always)]
+pub(crate) fn render_band<M, P: Copy, Cam: Camera>(
+    (m, isa, packets): (&M, Isa, bool),
+    (camera, size, rows): (&Cam, (usize, usize), Option<usize>),
+    image: &mut [P],
+    (cast_rays8, cast): (
+        impl for<'r, 'o> Fn(&M, &'r [Ray], &'o mut [P]) -> (&'r [Ray], &'o mut [P]),
+        impl Fn(&M, &Ray) -> P,
+    ),
+) -> Result<(), Error> {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(cpu) = isa.avx2_token().filter(|_| packets) {
+        return cpu.run(|| {
+            render_packets(camera, size, rows, image, |rays, out| {
+                let (rest, out) = cast_rays8(m, rays, out);
+                for (r, o) in rest.iter().zip(out) {
+                    *o = cast(m, r);
+                }
+            })
+        });
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (isa, packets, cast_rays8);
+    render_each(camera, size, rows, image, |ray| cast(m, ray))
 }

@@ -23,9 +23,7 @@
 //! the feature `sse2`). The positions, taps and compositing order are those of one sample at
 //! a time, so the results are too.
 
-#[cfg(target_arch = "x86_64")]
-use super::render_packets;
-use super::{check_len, render_each, Step, MAX_SAMPLES_PER_RAY};
+use super::{check_len, render_band, Step, MAX_SAMPLES_PER_RAY};
 use crate::arch::{in_isa, Isa};
 use crate::each::Each;
 use crate::error::Error;
@@ -317,8 +315,10 @@ where
     }
 
     /// [`cast`](Self::cast), also returning the number of samples composited (fewer than the
-    /// ray's sample count when early termination stops it).
-    #[inline]
+    /// ray's sample count when early termination stops it). Not inlined: one copy of the
+    /// one-ray march per instruction set serves `cast`, `cast_counted` and the pixel loop of
+    /// [`render_into`](Self::render_into).
+    #[inline(never)]
     pub fn cast_counted(&self, ray: &Ray) -> (IntSample, u32) {
         in_isa!(self.isa, self.cast_counted_here(ray))
     }
@@ -530,25 +530,8 @@ where
         first_row: Option<usize>,
         image: &mut [IntSample],
     ) -> Result<(), Error> {
-        // As the float marcher's: the eight-ray kernel only in the AVX2 instance.
-        #[cfg(target_arch = "x86_64")]
-        if let Some(cpu) = self.isa.avx2_token().filter(|_| self.eight_ray_packets()) {
-            return cpu.run(|| {
-                render_packets(camera, size, first_row, image, |rays, out| {
-                    let (rest, out) = self.cast_rays8(rays, out);
-                    // Empty: the kernel applies (`eight_ray_packets`); any rest would be cast
-                    // one ray at a time.
-                    for (r, o) in rest.iter().zip(out) {
-                        *o = self.cast(r);
-                    }
-                })
-            });
-        }
-        in_isa!(
-            self.isa,
-            render_each(camera, size, first_row, image, |ray| {
-                self.cast_counted_here(ray).0
-            })
-        )
+        let marcher = (self, self.isa, self.eight_ray_packets());
+        let casts = (Self::cast_rays8, Self::cast);
+        render_band(marcher, (camera, size, first_row), image, casts)
     }
 }

@@ -40,9 +40,7 @@ mod one_ray;
 mod packets;
 mod step;
 
-#[cfg(target_arch = "x86_64")]
-pub(crate) use image::render_packets;
-pub(crate) use image::{check_len, render_each};
+pub(crate) use image::{check_len, render_band};
 pub use int_marcher::IntRayMarcher;
 pub use step::Step;
 
@@ -281,9 +279,10 @@ where
     }
 
     /// [`cast`](Self::cast), also returning the number of samples taken (fewer than the
-    /// ray's sample count when early termination stops it). The count costs nothing when it
-    /// is not used.
-    #[inline(always)]
+    /// ray's sample count when early termination stops it). Not inlined: one copy of the
+    /// one-ray march per instruction set serves `cast`, `cast_counted` and the pixel loop of
+    /// [`render_into`](Self::render_into).
+    #[inline(never)]
     pub fn cast_counted(&self, ray: &Ray) -> (Sample, u32) {
         in_isa!(self.isa, self.cast_counted_here(ray))
     }
@@ -473,27 +472,9 @@ where
         first_row: Option<usize>,
         image: &mut [Sample],
     ) -> Result<(), Error> {
-        // The eight-ray kernel only in the AVX2 instance, the one-ray march in both: each
-        // instance holds only the paths it can take.
-        #[cfg(target_arch = "x86_64")]
-        if let Some(cpu) = self.isa.avx2_token().filter(|_| self.eight_ray_packets()) {
-            return cpu.run(|| {
-                render_packets(camera, size, first_row, image, |rays, out| {
-                    let (rest, out) = self.cast_rays8(rays, out);
-                    // Empty: the kernel applies (`eight_ray_packets`); any rest would be cast
-                    // one ray at a time.
-                    for (r, o) in rest.iter().zip(out) {
-                        *o = self.cast(r);
-                    }
-                })
-            });
-        }
-        in_isa!(
-            self.isa,
-            render_each(camera, size, first_row, image, |ray| {
-                self.cast_counted_here(ray).0
-            })
-        )
+        let marcher = (self, self.isa, self.eight_ray_packets());
+        let casts = (Self::cast_rays8, Self::cast);
+        render_band(marcher, (camera, size, first_row), image, casts)
     }
 }
 
