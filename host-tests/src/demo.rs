@@ -5,8 +5,8 @@
 use std::fmt::Write as _;
 
 use volsample::{
-    FrontToBack, Mode, OpacityWeighted, Orthographic, RayMarcher, Sample, Separate, Step,
-    StraightU8, Trilinear, Volume,
+    Mode, OpacityWeighted, Orthographic, RayMarcher, Sample, Separate, Step, StraightU8, Trilinear,
+    Volume,
 };
 
 /// The §2/§3 ray: transparent black air (voxel 0) then opaque white material (voxel 1),
@@ -21,7 +21,7 @@ pub fn three_sample_ray<M: Mode<StraightU8> + Copy>(mode: M) -> Result<f32, vols
         vol,
         mode,
         Trilinear::new(),
-        FrontToBack::new(),
+        crate::pipeline::front_to_back()?,
         Step::new(0.5)?,
     )?;
     let ray = volsample::Ray::new([0.0, 0.0, 0.0], [1.0, 0.0, 0.0])?;
@@ -76,7 +76,7 @@ fn render<M: Mode<StraightU8> + Copy>(
         vol,
         mode,
         Trilinear::new(),
-        FrontToBack::new(),
+        crate::pipeline::front_to_back()?,
         Step::new(1.0)?.with_phase(0.5)?,
     )?;
     let mut image = vec![Sample::TRANSPARENT; n * n];

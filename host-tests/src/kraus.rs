@@ -39,8 +39,8 @@
 //! `d′ → 0`, which thickens every silhouette.)
 
 use volsample::{
-    ExtinctionF32, ExtinctionWeighted, FrontToBack, OpacityWeighted, Orthographic, Ray, RayMarcher,
-    Sample, Step, StraightF32, Trilinear, Volume,
+    ExtinctionF32, ExtinctionWeighted, OpacityWeighted, Orthographic, Ray, RayMarcher, Sample,
+    Step, StraightF32, Trilinear, Volume,
 };
 
 /// The `τ_max` values of fig. 4.
@@ -122,7 +122,7 @@ pub fn fig4_core(method: Method, tau_max: f32, d: f32, r: f32) -> Result<f32, vo
                 vol,
                 OpacityWeighted,
                 Trilinear::new(),
-                FrontToBack::new(),
+                crate::pipeline::front_to_back()?,
                 step,
             )?
             .cast(&ray)
@@ -136,7 +136,7 @@ pub fn fig4_core(method: Method, tau_max: f32, d: f32, r: f32) -> Result<f32, vo
                 vol,
                 ExtinctionWeighted,
                 Trilinear::new(),
-                FrontToBack::new(),
+                crate::pipeline::front_to_back()?,
                 step,
             )?
             .cast(&ray)
@@ -369,7 +369,7 @@ pub fn scene36(
                 vol,
                 OpacityWeighted,
                 Trilinear::new(),
-                FrontToBack::new(),
+                crate::pipeline::front_to_back()?,
                 step,
             )?
             .render_into(&cam, IMAGE, IMAGE, &mut img)?;
@@ -384,7 +384,7 @@ pub fn scene36(
                 vol,
                 ExtinctionWeighted,
                 Trilinear::new(),
-                FrontToBack::new(),
+                crate::pipeline::front_to_back()?,
                 step,
             )?
             .render_into(&cam, IMAGE, IMAGE, &mut img)?;
@@ -530,7 +530,7 @@ pub fn fig4_core_fixed_dref(
         vol,
         OpacityWeighted,
         Trilinear::new(),
-        FrontToBack::new(),
+        crate::pipeline::front_to_back()?,
         step,
     )?;
     Ok(m.cast(&ray).a)
@@ -595,7 +595,7 @@ pub fn scene36_tau(
                 vol,
                 OpacityWeighted,
                 Trilinear::new(),
-                FrontToBack::new(),
+                crate::pipeline::front_to_back()?,
                 step,
             )?
             .render_into(&cam, IMAGE, IMAGE, &mut img)?;
@@ -610,7 +610,7 @@ pub fn scene36_tau(
                 vol,
                 ExtinctionWeighted,
                 Trilinear::new(),
-                FrontToBack::new(),
+                crate::pipeline::front_to_back()?,
                 step,
             )?
             .render_into(&cam, IMAGE, IMAGE, &mut img)?;

@@ -20,8 +20,8 @@ use volsample::voxel::Voxel;
 use volsample::{
     AssociatedU8, Camera, ExtinctionF32, ExtinctionWeighted, Filter, FrontToBack, Mode, Nearest,
     OpacityWeighted, Orthographic, Perspective, PostClassified, Preweighted, RayMarcher, Sample,
-    Separate, Step, StraightF32, StraightU8, TransferFunction, Trilinear, TriquadraticBSpline,
-    Volume,
+    Separate, Step, StraightF32, StraightU8, Threshold, TransferFunction, Trilinear,
+    TriquadraticBSpline, Volume,
 };
 
 use crate::float_checks::{CameraSpec, FilterKind};
@@ -295,6 +295,18 @@ pub trait Frames {
     fn samples(&self) -> u64;
 }
 
+/// Front to back without early termination, as every float marcher of the host library
+/// builds it: stopping at `A ≥ 1`, after which every step would add `(1 − 1)·x = 0` to each
+/// channel of the accumulated sample (the samples are clamped, so finite). The image is
+/// bit-identical to [`FrontToBack::new`]'s, and the marchers of a (storage, mode, filter)
+/// share one type, whether they stop early or not: half the marcher instances to compile.
+///
+/// # Errors
+/// None (`1` is a valid threshold).
+pub(crate) fn front_to_back() -> Result<FrontToBack<Threshold>, volsample::Error> {
+    FrontToBack::with_threshold(1.0)
+}
+
 /// The rays of a `w × h` image of `cam`, with `cast`'s sample count summed.
 fn count(cam: &Cam, [w, h]: [usize; 2], cast: impl Fn(&volsample::Ray) -> u32) -> u64 {
     let mut samples = 0u64;
@@ -398,10 +410,7 @@ fn float_build<V: Voxel, M: Mode<V> + Copy, F: Filter, T>(
     let step = Step::new(scene.step)?.with_phase(scene.phase)?;
     let cam = Cam::new(&scene.camera)?;
     let image = scene.image;
-    // One marcher type per (storage, mode, filter): a scene without early termination stops
-    // at `A = 1`, after which every step would add `(1 − 1)·x = 0` to each channel of the
-    // accumulated sample (the samples are clamped, so finite): the image is bit-identical,
-    // and the report's float pipelines need half the marcher instances.
+    // One marcher type per (storage, mode, filter): see `front_to_back`.
     let order = FrontToBack::with_threshold(scene.a_stop.min(1.0))?;
     let marcher = RayMarcher::new(vol, mode, filter, order, step)?
         .with_background(scene.background)?
