@@ -279,10 +279,13 @@ where
     }
 
     /// [`cast`](Self::cast), also returning the number of samples taken (fewer than the
-    /// ray's sample count when early termination stops it). Not inlined: one copy of the
-    /// one-ray march per instruction set serves `cast`, `cast_counted` and the pixel loop of
-    /// [`render_into`](Self::render_into).
-    #[inline(never)]
+    /// ray's sample count when early termination stops it). Not inlined on x86-64, where each
+    /// inlined copy would hold the march of every instruction set: one copy per instruction
+    /// set serves `cast`, `cast_counted` and the pixel loop of
+    /// [`render_into`](Self::render_into). Inlined elsewhere (one instruction set, and the
+    /// smallest firmware images).
+    #[cfg_attr(target_arch = "x86_64", inline(never))]
+    #[cfg_attr(not(target_arch = "x86_64"), inline(always))]
     pub fn cast_counted(&self, ray: &Ray) -> (Sample, u32) {
         in_isa!(self.isa, self.cast_counted_here(ray))
     }
