@@ -295,8 +295,8 @@ pub trait Frames {
     fn samples(&self) -> u64;
 }
 
-/// Front to back without early termination, as every float marcher of the host library
-/// builds it: stopping at `A ≥ 1`, after which every step would add `(1 − 1)·x = 0` to each
+/// Front to back without early termination, as the report's float pipelines, `kraus` and
+/// `demo` build it: stopping at `A ≥ 1`, after which every step would add `(1 − 1)·x = 0` to each
 /// channel of the accumulated sample (the samples are clamped, so finite). The image is
 /// bit-identical to [`FrontToBack::new`]'s, and the marchers of a (storage, mode, filter)
 /// share one type, whether they stop early or not: half the marcher instances to compile.
