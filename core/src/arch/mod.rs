@@ -45,11 +45,18 @@ pub(crate) use reads::TapReads;
 /// `$body` in the instruction set `$isa` ([`Isa::run`]); on targets with one instruction set,
 /// `$body` itself, without the closure (whose extra level of inlining changed the Cortex-M
 /// code: 108 more bytes in the minimal float image).
+///
+/// The closure is `#[inline(always)]`: without it LLVM may keep a large body (a whole march)
+/// as a function of its own, compiled for the baseline, and `run`'s AVX2 entry only jumps to
+/// it (found in the CLI binary: 58 of the one-ray marches' AVX2 entries were such jumps).
 macro_rules! in_isa {
     ($isa:expr, $body:expr) => {{
         #[cfg(target_arch = "x86_64")]
         {
-            $isa.run(|| $body)
+            $isa.run(
+                #[inline(always)]
+                || $body,
+            )
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
@@ -183,6 +190,8 @@ impl Isa {
     /// Runs `f` in this instruction set: inside a function compiled for it, into which `f`
     /// and the `#[inline(always)]` code it calls are inlined (the portable code then compiled
     /// with the instruction set's instructions; the same operations, so the same results).
+    /// `f` must be `#[inline(always)]` itself (as `in_isa!` makes it): LLVM may otherwise
+    /// keep a large closure out of line, compiled for the baseline.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(crate) fn run<R>(self, f: impl FnOnce() -> R) -> R {
