@@ -10,6 +10,11 @@
 //! Every instance gives bit-identical results: the float ones those of one sample of one ray
 //! at a time, the integer ones those of the bit-exact model.
 //!
+//! The portable code reaches an AVX2 entry through `#[inline(always)]` at every level, the
+//! closure handed to the entry included: LLVM is otherwise free to keep a large kernel out of
+//! line, compiled for the baseline, behind an entry that only jumps to it (same results, the
+//! baseline's speed). CI reads the CLI's machine code for that (`.ci/avx2_entries.py`).
+//!
 //! This module is the one place in the crate with `unsafe` code (every other module is
 //! `forbid(unsafe_code)`): the entries into the AVX2 instances, whose proof is an [`Isa`]
 //! value that only detection makes; the SSE2 kernel's entry (SSE2 is part of x86-64); and the

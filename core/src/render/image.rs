@@ -124,53 +124,16 @@ fn first_row(
     }
 }
 
-/// The image (or band, see [`first_row`]) of both ray marchers' `render_into` and
-/// `render_rows_into` where the eight-ray kernel applies: eight pixels of a row at a time by
-/// `cast8` ([`trace_rows8`]). Every pixel is the same whether rendered in the whole image or
-/// in a band, and the same as [`render_each`]'s.
-///
-/// # Errors
-/// Those of [`first_row`].
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-fn render_packets<P: Copy, Cam: Camera>(
-    camera: &Cam,
-    size: (usize, usize),
-    rows: Option<usize>,
-    image: &mut [P],
-    cast8: impl FnMut(&[Ray; 8], &mut [P; 8]),
-) -> Result<(), Error> {
-    let first = first_row(size, rows, image.len())?;
-    trace_rows8(camera, size, first, image, cast8);
-    Ok(())
-}
-
-/// The image (or band, see [`first_row`]) of both ray marchers' `render_into` and
-/// `render_rows_into` elsewhere: each pixel by `cast` of its ray ([`trace_image`]).
-///
-/// # Errors
-/// Those of [`first_row`].
-#[inline(always)]
-fn render_each<P, Cam: Camera>(
-    camera: &Cam,
-    size: (usize, usize),
-    rows: Option<usize>,
-    image: &mut [P],
-    cast: impl Fn(&Ray) -> P,
-) -> Result<(), Error> {
-    let first = first_row(size, rows, image.len())?;
-    trace_image(camera, size, first, image, cast);
-    Ok(())
-}
-
 /// The body of both ray marchers' `render_into` (`rows: None`) and `render_rows_into`
-/// (`rows: Some(first)`) for the marcher `m` in its instruction set `isa`. Where `packets`
-/// holds (the marcher's eight-ray kernel applies) and `isa` is AVX2, eight pixels of a row at
-/// a time ([`render_packets`]) by `cast_rays8`, which casts the leading multiple of eight rays
-/// and returns the rest, and `cast` of each ray of the rest (none while the kernel applies);
-/// otherwise each pixel by `cast` ([`render_each`]), which enters the marcher's instruction
-/// set per ray: the one-ray march is compiled once per instruction set, shared with `cast`,
-/// and only the AVX2 instance with the packets.
+/// (`rows: Some(first)`) for the marcher `m` in its instruction set `isa`, on the image (or
+/// band) that [`first_row`] checks. Where `packets` holds (the marcher's eight-ray kernel
+/// applies) and `isa` is AVX2, eight pixels of a row at a time ([`trace_rows8`]) by
+/// `cast_rays8`, which casts the leading multiple of eight rays and returns the rest, and
+/// `cast` of each ray of the rest (none while the kernel applies); otherwise each pixel by
+/// `cast` ([`trace_image`]), which enters the marcher's instruction set per ray: the one-ray
+/// march is compiled once per instruction set, shared with `cast`, and only the AVX2 instance
+/// with the packets. Every pixel is the same either way, and the same in the whole image or a
+/// band.
 ///
 /// # Errors
 /// Those of [`first_row`].
@@ -184,22 +147,25 @@ pub(crate) fn render_band<M, P: Copy, Cam: Camera>(
         impl Fn(&M, &Ray) -> P,
     ),
 ) -> Result<(), Error> {
+    let first = first_row(size, rows, image.len())?;
     #[cfg(target_arch = "x86_64")]
     if let Some(cpu) = isa.avx2_token().filter(|_| packets) {
         // The closure inlined into the AVX2 entry, as `in_isa!`'s.
-        return cpu.run(
+        cpu.run(
             #[inline(always)]
             || {
-                render_packets(camera, size, rows, image, |rays, out| {
+                trace_rows8(camera, size, first, image, |rays, out| {
                     let (rest, out) = cast_rays8(m, rays, out);
                     for (r, o) in rest.iter().zip(out) {
                         *o = cast(m, r);
                     }
-                })
+                });
             },
         );
+        return Ok(());
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = (isa, packets, cast_rays8);
-    render_each(camera, size, rows, image, |ray| cast(m, ray))
+    trace_image(camera, size, first, image, |ray| cast(m, ray));
+    Ok(())
 }
