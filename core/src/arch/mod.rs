@@ -10,6 +10,15 @@
 //! Every instance gives bit-identical results: the float ones those of one sample of one ray
 //! at a time, the integer ones those of the bit-exact model.
 //!
+//! A marcher has an AVX2 instance where its types have an eight-lane AVX2 kernel
+//! (`Filter::lanes8`: trilinear `OpacityWeighted`, `Separate` and the two extinction modes over
+//! the formats those kernels read, and the integer `OpacityWeighted` over RGBA8); there its
+//! whole march (one ray, packets, one sample) is compiled for AVX2 (`InIsa`). Every other
+//! marcher (B-spline, nearest, the trilinear tree, `Preweighted`, post-classification) has one
+//! instance, the portable one, whatever its [`Isa`]: compiled for AVX2 the same code ran no
+//! faster (B-spline slower; the performance log, 2026-12-07 (morning)) and took a second
+//! copy of every march in the build.
+//!
 //! The portable code reaches an AVX2 entry through `#[inline(always)]` at every level, the
 //! closure handed to the entry included: LLVM is otherwise free to keep a large kernel out of
 //! line, compiled for the baseline, behind an entry that only jumps to it (same results, the
@@ -47,30 +56,108 @@ mod reads {
 }
 pub(crate) use reads::TapReads;
 
-/// `$body` in the instruction set `$isa` ([`Isa::run`]); on targets with one instruction set,
-/// `$body` itself, without the closure (whose extra level of inlining changed the Cortex-M
-/// code: 108 more bytes in the minimal float image).
+/// `$body` in the instruction set of the marcher `$m` ([`InIsa::run`]); on targets with one
+/// instruction set, `$body` itself, without the closure (whose extra level of inlining
+/// changed the Cortex-M code: 108 more bytes in the minimal float image).
 ///
 /// The closure is `#[inline(always)]`: without it LLVM may keep a large body (a whole march)
-/// as a function of its own, compiled for the baseline, and `run`'s AVX2 entry only jumps to
-/// it (found in the CLI binary: 58 of the one-ray marches' AVX2 entries were such jumps).
+/// as a function of its own, compiled for the baseline, and the AVX2 entry only jumps to it
+/// (found in the CLI binary: 58 of the one-ray marches' AVX2 entries were such jumps).
 macro_rules! in_isa {
-    ($isa:expr, $body:expr) => {{
+    ($m:expr, $body:expr) => {{
         #[cfg(target_arch = "x86_64")]
         {
-            $isa.run(
+            $crate::arch::InIsa::run(
+                $m,
                 #[inline(always)]
                 || $body,
             )
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
-            let _ = $isa;
+            let _ = $m;
             $body
         }
     }};
 }
 pub(crate) use in_isa;
+
+/// How a marcher enters its instruction set: the AVX2 instance exists only where the
+/// marcher's types have an eight-lane AVX2 kernel, so that no other marcher compiles a second
+/// copy of its march (see the module's docs). (Without methods on targets with one
+/// instruction set.)
+pub(crate) trait InIsa {
+    /// The marcher's instruction set.
+    #[cfg(target_arch = "x86_64")]
+    fn isa_of(&self) -> Isa;
+
+    /// `Ok(f())` inside the AVX2 entry where this marcher's types have an eight-lane AVX2
+    /// kernel (its filter's `lanes8` visits [`InAvx2`]); `Err(f)` for every other marcher, by
+    /// type, so that their AVX2 instance is never compiled.
+    #[cfg(target_arch = "x86_64")]
+    fn in_avx2<R, G: FnOnce() -> R>(&self, cpu: avx2::Avx2, f: G) -> Result<R, G>;
+
+    /// `f()` in the marcher's instruction set where the marcher has an instance there
+    /// ([`in_avx2`](Self::in_avx2)): inside a function compiled for it, into which `f` and
+    /// the `#[inline(always)]` code it calls are inlined (the portable code compiled with
+    /// the instruction set's instructions: the same operations, so the same results); else
+    /// in the baseline, by one call of `f`, so that the portable march is inlined once. `f`
+    /// must be `#[inline(always)]` itself (as `in_isa!` makes it): LLVM may otherwise keep a
+    /// large closure out of line, compiled for the baseline.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn run<R>(&self, f: impl FnOnce() -> R) -> R {
+        let f = match self.isa_of().avx2_token() {
+            Some(cpu) => match self.in_avx2(cpu, f) {
+                Ok(r) => return r,
+                Err(f) => f,
+            },
+            None => f,
+        };
+        f()
+    }
+}
+
+/// The visitor that [`InIsa::in_avx2`] hands to a filter's `lanes8`: visited (the marcher's
+/// types have an eight-lane kernel), it runs its closure in AVX2; otherwise the filter
+/// returns it, closure and all, unvisited.
+#[cfg(target_arch = "x86_64")]
+pub(crate) struct InAvx2<G, R>(avx2::Avx2, G, core::marker::PhantomData<fn() -> R>);
+
+#[cfg(target_arch = "x86_64")]
+impl<G: FnOnce() -> R, R> InAvx2<G, R> {
+    /// `f`, to run in AVX2 on the CPU that `cpu` proves has it.
+    #[inline(always)]
+    pub(crate) fn new(cpu: avx2::Avx2, f: G) -> Self {
+        Self(cpu, f, core::marker::PhantomData)
+    }
+
+    /// The closure, unvisited.
+    #[inline(always)]
+    pub(crate) fn into_inner(self) -> G {
+        self.1
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<G: FnOnce() -> R, R> crate::mode::LaneVisitor for InAvx2<G, R> {
+    type Out = R;
+
+    #[inline(always)]
+    fn visit<K: crate::mode::LaneMode>(self, _mode: &K) -> R {
+        self.0.run(self.1)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<G: FnOnce() -> R, R> crate::fixed_point::IntLaneVisitor for InAvx2<G, R> {
+    type Out = R;
+
+    #[inline(always)]
+    fn visit<K: crate::fixed_point::IntLaneMode>(self, _mode: &K) -> R {
+        self.0.run(self.1)
+    }
+}
 
 /// Asks the CPU to bring the cache line holding `v` into its caches: a hint, which changes no
 /// result (`prefetcht0` on x86-64, part of its baseline; nothing elsewhere).
@@ -189,20 +276,6 @@ impl Isa {
         match self.0 {
             Kind::Avx2(t) => Some(t),
             Kind::Baseline => None,
-        }
-    }
-
-    /// Runs `f` in this instruction set: inside a function compiled for it, into which `f`
-    /// and the `#[inline(always)]` code it calls are inlined (the portable code then compiled
-    /// with the instruction set's instructions; the same operations, so the same results).
-    /// `f` must be `#[inline(always)]` itself (as `in_isa!` makes it): LLVM may otherwise
-    /// keep a large closure out of line, compiled for the baseline.
-    #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
-    pub(crate) fn run<R>(self, f: impl FnOnce() -> R) -> R {
-        match self.0 {
-            Kind::Baseline => f(),
-            Kind::Avx2(t) => t.run(f),
         }
     }
 }

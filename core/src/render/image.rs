@@ -1,6 +1,6 @@
 //! The pixel loops and image checks shared by the float and the integer ray marchers.
 
-use crate::arch::Isa;
+use crate::arch::InIsa;
 use crate::error::Error;
 use crate::ray::{Camera, Ray};
 
@@ -125,21 +125,22 @@ fn first_row(
 }
 
 /// The body of both ray marchers' `render_into` (`rows: None`) and `render_rows_into`
-/// (`rows: Some(first)`) for the marcher `m` in its instruction set `isa`, on the image (or
-/// band) that [`first_row`] checks. Where `packets` holds (the marcher's eight-ray kernel
-/// applies) and `isa` is AVX2, eight pixels of a row at a time ([`trace_rows8`]) by
-/// `cast_rays8`, which casts the leading multiple of eight rays and returns the rest, and
-/// `cast` of each ray of the rest (none while the kernel applies); otherwise each pixel by
-/// `cast` ([`trace_image`]), which enters the marcher's instruction set per ray: the one-ray
-/// march is compiled once per instruction set, shared with `cast`, and only the AVX2 instance
-/// with the packets. Every pixel is the same either way, and the same in the whole image or a
-/// band.
+/// (`rows: Some(first)`) for the marcher `m`, on the image (or band) that [`first_row`]
+/// checks. Where `packets` holds (the marcher's eight-ray kernel applies: its instruction
+/// set is AVX2 and its types have the kernel), eight pixels of a row at a time
+/// ([`trace_rows8`]) inside the marcher's AVX2 entry ([`InIsa::in_avx2`]) by `cast_rays8`,
+/// which casts the leading multiple of eight rays and returns the rest, and `cast` of each
+/// ray of the rest (none while the kernel applies); otherwise each pixel by `cast`
+/// ([`trace_image`]), which enters the marcher's instruction set per ray: the one-ray march
+/// is compiled once per instance of the marcher, shared with `cast`, and only the AVX2
+/// instance with the packets. Every pixel is the same either way, and the same in the whole
+/// image or a band.
 ///
 /// # Errors
 /// Those of [`first_row`].
 #[inline(always)]
-pub(crate) fn render_band<M, P: Copy, Cam: Camera>(
-    (m, isa, packets): (&M, Isa, bool),
+pub(crate) fn render_band<M: InIsa, P: Copy, Cam: Camera>(
+    (m, packets): (&M, bool),
     (camera, size, rows): (&Cam, (usize, usize), Option<usize>),
     image: &mut [P],
     (cast_rays8, cast): (
@@ -149,12 +150,14 @@ pub(crate) fn render_band<M, P: Copy, Cam: Camera>(
 ) -> Result<(), Error> {
     let first = first_row(size, rows, image.len())?;
     #[cfg(target_arch = "x86_64")]
-    if let Some(cpu) = isa.avx2_token().filter(|_| packets) {
-        // The closure inlined into the AVX2 entry, as `in_isa!`'s.
-        cpu.run(
+    if let Some(cpu) = m.isa_of().avx2_token().filter(|_| packets) {
+        // The closure inlined into the AVX2 entry, as `in_isa!`'s. `Err` (no AVX2 instance)
+        // only where `packets` is false, by type.
+        let eight = m.in_avx2(
+            cpu,
             #[inline(always)]
             || {
-                trace_rows8(camera, size, first, image, |rays, out| {
+                trace_rows8(camera, size, first, &mut *image, |rays, out| {
                     let (rest, out) = cast_rays8(m, rays, out);
                     for (r, o) in rest.iter().zip(out) {
                         *o = cast(m, r);
@@ -162,10 +165,12 @@ pub(crate) fn render_band<M, P: Copy, Cam: Camera>(
                 });
             },
         );
-        return Ok(());
+        if eight.is_ok() {
+            return Ok(());
+        }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = (isa, packets, cast_rays8);
+    let _ = (packets, cast_rays8);
     trace_image(camera, size, first, image, |ray| cast(m, ray));
     Ok(())
 }

@@ -24,7 +24,9 @@
 //! a time, so the results are too.
 
 use super::{check_len, render_band, Step, MAX_SAMPLES_PER_RAY};
-use crate::arch::{in_isa, Isa};
+#[cfg(target_arch = "x86_64")]
+use crate::arch::InAvx2;
+use crate::arch::{in_isa, InIsa, Isa};
 use crate::each::Each;
 use crate::error::Error;
 use crate::fixed_point::composite::{front_to_back, IntStop};
@@ -212,7 +214,9 @@ where
 
     /// Runs the kernels in the instruction set `isa` instead of the best one this CPU has
     /// (what `new` chose, [`Isa::detect`]): to compare instances, or to pin one. Every
-    /// instance gives the same results, bit for bit.
+    /// instance gives the same results, bit for bit. Only `OpacityWeighted` with trilinear
+    /// filtering in the `WeightedSum` order (the eight-lane kernel's) has an AVX2 instance;
+    /// the others run their portable instance under either [`Isa`].
     pub fn with_isa(mut self, isa: Isa) -> Self {
         self.isa = isa;
         self
@@ -255,7 +259,7 @@ where
     /// (integer arithmetic: the same bits in each).
     #[inline]
     pub fn sample(&self, pos: [f32; 3]) -> IntSample {
-        in_isa!(self.isa, self.sample_here(pos))
+        in_isa!(self, self.sample_here(pos))
     }
 
     /// [`sample`](Self::sample) at each of `positions` into `out` (the batch form for random
@@ -267,7 +271,7 @@ where
     pub fn sample_into(&self, positions: &[[f32; 3]], out: &mut [IntSample]) -> Result<(), Error> {
         check_len(positions.len(), out.len())?;
         let vol = self.sampler.volume();
-        in_isa!(self.isa, {
+        in_isa!(self, {
             for (k, (&p, o)) in positions.iter().zip(out.iter_mut()).enumerate() {
                 if let Some(&ahead) = positions.get(k + super::PREFETCH_AHEAD) {
                     vol.prefetch_cell(ahead);
@@ -323,7 +327,7 @@ where
     #[cfg_attr(target_arch = "x86_64", inline(never))]
     #[cfg_attr(not(target_arch = "x86_64"), inline(always))]
     pub fn cast_counted(&self, ray: &Ray) -> (IntSample, u32) {
-        in_isa!(self.isa, self.cast_counted_here(ray))
+        in_isa!(self, self.cast_counted_here(ray))
     }
 
     /// [`cast_counted`](Self::cast_counted) in the instruction set of the caller.
@@ -434,7 +438,7 @@ where
     /// [`Error::ImageSizeMismatch`] unless `out.len() == rays.len()`.
     pub fn cast_rays(&self, rays: &[Ray], out: &mut [IntSample]) -> Result<(), Error> {
         check_len(rays.len(), out.len())?;
-        in_isa!(self.isa, self.cast_rays_here(rays, out));
+        in_isa!(self, self.cast_rays_here(rays, out));
         Ok(())
     }
 
@@ -533,8 +537,27 @@ where
         first_row: Option<usize>,
         image: &mut [IntSample],
     ) -> Result<(), Error> {
-        let marcher = (self, self.isa, self.eight_ray_packets());
+        let marcher = (self, self.eight_ray_packets());
         let casts = (Self::cast_rays8, Self::cast);
         render_band(marcher, (camera, size, first_row), image, casts)
+    }
+}
+
+impl<V, M, Fl, const F: u32, S> InIsa for IntRayMarcher<'_, V, M, Fl, F, S>
+where
+    V: Voxel,
+    M: IntMode<V>,
+    Fl: IntFilter,
+{
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn isa_of(&self) -> Isa {
+        self.isa
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn in_avx2<R, G: FnOnce() -> R>(&self, cpu: crate::arch::avx2::Avx2, f: G) -> Result<R, G> {
+        Fl::lanes8(self.sampler.mode(), InAvx2::new(cpu, f)).map_err(InAvx2::into_inner)
     }
 }

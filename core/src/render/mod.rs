@@ -19,7 +19,9 @@
 use core::marker::PhantomData;
 use core::ops::ControlFlow;
 
-use crate::arch::{in_isa, Isa};
+#[cfg(target_arch = "x86_64")]
+use crate::arch::InAvx2;
+use crate::arch::{in_isa, InIsa, Isa};
 use crate::composite::{back_to_front, front_to_back, front_to_back_in, over, Order, Termination};
 use crate::each::Each;
 use crate::error::Error;
@@ -190,7 +192,10 @@ where
 
     /// Runs the kernels in the instruction set `isa` instead of the best one this CPU has
     /// (what [`new`](RayMarcher::new) chose, [`Isa::detect`]): to compare instances, or to
-    /// pin one. Every instance gives the same results, bit for bit.
+    /// pin one. Every instance gives the same results, bit for bit. Only marchers whose types
+    /// have an eight-lane AVX2 kernel (trilinear, `WeightedSum` order, with `OpacityWeighted`,
+    /// `Separate`, `ExtinctionWeighted` or `ExtinctionWeightedU8`) have an AVX2 instance; the
+    /// others run their portable instance under either [`Isa`] (see [`crate::arch`]).
     pub fn with_isa(mut self, isa: Isa) -> Self {
         self.isa = isa;
         self
@@ -221,7 +226,7 @@ where
     /// `f32` operations in each, so the same bits).
     #[inline]
     pub fn sample(&self, pos: [f32; 3]) -> Sample {
-        in_isa!(self.isa, self.sample_here(pos))
+        in_isa!(self, self.sample_here(pos))
     }
 
     /// [`sample`](Self::sample) at each of `positions` into `out`, bit for bit: the batch form
@@ -233,7 +238,7 @@ where
     /// [`Error::ImageSizeMismatch`] unless `out.len() == positions.len()`.
     pub fn sample_into(&self, positions: &[[f32; 3]], out: &mut [Sample]) -> Result<(), Error> {
         check_len(positions.len(), out.len())?;
-        in_isa!(self.isa, {
+        in_isa!(self, {
             for (k, (&p, o)) in positions.iter().zip(out.iter_mut()).enumerate() {
                 if let Some(&ahead) = positions.get(k + PREFETCH_AHEAD) {
                     self.volume.prefetch_cell(ahead);
@@ -287,7 +292,7 @@ where
     #[cfg_attr(target_arch = "x86_64", inline(never))]
     #[cfg_attr(not(target_arch = "x86_64"), inline(always))]
     pub fn cast_counted(&self, ray: &Ray) -> (Sample, u32) {
-        in_isa!(self.isa, self.cast_counted_here(ray))
+        in_isa!(self, self.cast_counted_here(ray))
     }
 
     /// [`cast_counted`](Self::cast_counted) in the instruction set of the caller.
@@ -343,7 +348,7 @@ where
     #[inline(never)]
     #[doc(hidden)]
     pub fn cast4(&self, rays: &[Ray; 4]) -> [(Sample, u32); 4] {
-        in_isa!(self.isa, self.cast4_here(rays))
+        in_isa!(self, self.cast4_here(rays))
     }
 
     /// [`cast4`](Self::cast4) in the instruction set of the caller.
@@ -386,7 +391,7 @@ where
     /// [`Error::ImageSizeMismatch`] unless `out.len() == rays.len()`.
     pub fn cast_rays(&self, rays: &[Ray], out: &mut [Sample]) -> Result<(), Error> {
         check_len(rays.len(), out.len())?;
-        in_isa!(self.isa, self.cast_rays_here(rays, out));
+        in_isa!(self, self.cast_rays_here(rays, out));
         Ok(())
     }
 
@@ -475,9 +480,28 @@ where
         first_row: Option<usize>,
         image: &mut [Sample],
     ) -> Result<(), Error> {
-        let marcher = (self, self.isa, self.eight_ray_packets());
+        let marcher = (self, self.eight_ray_packets());
         let casts = (Self::cast_rays8, Self::cast);
         render_band(marcher, (camera, size, first_row), image, casts)
+    }
+}
+
+impl<V, M, F, O, S> InIsa for RayMarcher<'_, V, M, F, O, S>
+where
+    V: Voxel,
+    M: Mode<V>,
+    F: Filter,
+{
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn isa_of(&self) -> Isa {
+        self.isa
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn in_avx2<R, G: FnOnce() -> R>(&self, cpu: crate::arch::avx2::Avx2, f: G) -> Result<R, G> {
+        F::lanes8(&self.mode, InAvx2::new(cpu, f)).map_err(InAvx2::into_inner)
     }
 }
 
