@@ -16,8 +16,8 @@
 //! whole march (one ray, packets, one sample) is compiled for AVX2 (`InIsa`). Every other
 //! marcher (B-spline, nearest, the trilinear tree, `Preweighted`, post-classification) has one
 //! instance, the portable one, whatever its [`Isa`]: compiled for AVX2 the same code ran no
-//! faster (B-spline slower; the performance log, 2026-12-07 (morning)) and took a second
-//! copy of every march in the build.
+//! faster (the performance log, 2026-12-07 (morning)) and took a second copy of every march
+//! in the build.
 //!
 //! The portable code reaches an AVX2 entry through `#[inline(always)]` at every level, the
 //! closure handed to the entry included: LLVM is otherwise free to keep a large kernel out of
