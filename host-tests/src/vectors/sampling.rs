@@ -13,8 +13,8 @@ use super::prng::{random_voxel, SplitMix64};
 use super::VectorError;
 use super::{sample_from, with_frac_bits, Case, Layout, Raw, SampleFilter, SampleMode};
 
-/// Not inlined: the dispatch below instantiates it for every fraction width and filter (and
-/// table size), and inlining them all into one function optimized each body twice (the
+/// Not inlined: the dispatch below instantiates it for every fraction width, mode and filter,
+/// and inlining them all into one function optimized each body twice (the
 /// `vectors` module's LLVM function passes took 11.9 s instead of 14.6 in a time trace).
 #[inline(never)]
 fn run_sampler<V: Voxel, M: IntMode<V>, Fl: IntFilter, const F: u32>(
