@@ -21,6 +21,13 @@
 //! `ow_f32_f32_256_corrected_camera_render_into` the same view of 16-byte voxels with every
 //! sample corrected, as the report times its `f32` methods.
 //!
+//! Row width: 256 voxels of 16 bytes make rows of exactly 4 KiB and z-planes of 1 MiB, so the
+//! tap rows of a step (two rows in each of about five planes) all fall into one set of a cache
+//! indexed by the address bits below 4 KiB; an 8-way level-1 cache (AMD's Zen 3) cannot hold
+//! them, and the 16-byte extinction `cast` row pays for it. The interleaved passes end with
+//! `OpacityWeighted` and the 16-byte extinction march of the same rays through a volume 260
+//! voxels wide (rows of 4 160 bytes), and print the second over the first.
+//!
 //! Empty space: the same volume cut to a ball in air, marched with and without empty-space
 //! skipping (`volsample::skip`), and the grid's lookup cost where nothing is empty.
 //!
@@ -81,15 +88,30 @@ fn voxel(x: usize, y: usize, z: usize) -> StraightU8 {
 
 /// An `n³` volume, x fastest.
 fn volume(n: usize) -> Vec<StraightU8> {
-    let mut v = Vec::with_capacity(n * n * n);
-    for z in 0..n {
-        for y in 0..n {
-            for x in 0..n {
+    volume_of([n; 3])
+}
+
+/// A volume of `[nx, ny, nz]` voxels, x fastest.
+fn volume_of([nx, ny, nz]: [usize; 3]) -> Vec<StraightU8> {
+    let mut v = Vec::with_capacity(nx * ny * nz);
+    for z in 0..nz {
+        for y in 0..ny {
+            for x in 0..nx {
                 v.push(voxel(x, y, z));
             }
         }
     }
     v
+}
+
+/// The 16-byte extinction form of RGBA8 voxels (`τ` for `d′ = D`).
+fn extinction_of(v: &[StraightU8]) -> Vec<ExtinctionF32> {
+    v.iter()
+        .map(|v| {
+            let [r, g, b, a] = v.0.map(|n| f32::from(n) / 255.0);
+            ExtinctionF32::from_straight(StraightF32 { c: [r, g, b], a }, D)
+        })
+        .collect()
 }
 
 /// The coherent rays through an `n³` volume, in image order (mirrored in `peers.py`).
@@ -121,6 +143,22 @@ fn random_positions(count: usize) -> Vec<[f32; 3]> {
         .collect()
 }
 
+/// A trilinear front-to-back marcher of `mode` at step `D`, in the instruction set `isa()`.
+fn trilinear<'v, V: Voxel, M: Mode<V>>(
+    vol: Volume<'v, V>,
+    mode: M,
+) -> RayMarcher<'v, V, M, Trilinear, FrontToBack> {
+    RayMarcher::new(
+        vol,
+        mode,
+        Trilinear::new(),
+        FrontToBack::new(),
+        Step::new(D).unwrap(),
+    )
+    .unwrap()
+    .with_isa(isa())
+}
+
 /// The same-load ratios the targets name: each round renders every ray once with each
 /// marcher, in turn, and the per-round time ratios against `OpacityWeighted` f32 are reduced
 /// to their medians (criterion's medians come from different minutes, and the load on a
@@ -131,18 +169,8 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         .unwrap()
         .with_reference_distance(D)
         .unwrap();
-    let ow = RayMarcher::new(
-        vol,
-        OpacityWeighted,
-        Trilinear::new(),
-        FrontToBack::new(),
-        step,
-    )
-    .unwrap()
-    .with_isa(isa());
-    let sep = RayMarcher::new(vol, Separate, Trilinear::new(), FrontToBack::new(), step)
-        .unwrap()
-        .with_isa(isa());
+    let ow = trilinear(vol, OpacityWeighted);
+    let sep = trilinear(vol, Separate);
     let int_ow = IntRayMarcher::<_, _, _, 8>::new(
         vol,
         OpacityWeighted,
@@ -152,36 +180,32 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
     )
     .unwrap()
     .with_isa(isa());
-    let ext: Vec<ExtinctionF32> = v256
-        .iter()
-        .map(|v| {
-            let [r, g, b, a] = v.0.map(|n| f32::from(n) / 255.0);
-            ExtinctionF32::from_straight(StraightF32 { c: [r, g, b], a }, D)
-        })
-        .collect();
+    let ext = extinction_of(v256);
     let evol = Volume::new(&ext, [256; 3]).unwrap();
-    let em = RayMarcher::new(
-        evol,
-        ExtinctionWeighted,
-        Trilinear::new(),
-        FrontToBack::new(),
-        step,
-    )
-    .unwrap()
-    .with_isa(isa());
+    let em = trilinear(evol, ExtinctionWeighted);
+    // The same rays through a volume 260 voxels wide (the same voxels at each `(x, y, z)`):
+    // rows of 4 160 bytes of 16-byte voxels instead of 4 096, so that the rows and z-planes a
+    // step reads do not all fall into the same sets of a cache (the performance log,
+    // 2026-12-07 (day)).
+    let wide = [260, 256, 256];
+    let v260 = volume_of(wide);
+    let vol260 = Volume::new(&v260, wide)
+        .unwrap()
+        .with_reference_distance(D)
+        .unwrap();
+    let ow260 = trilinear(vol260, OpacityWeighted);
+    let ext260 = extinction_of(&v260);
+    let em260 = trilinear(Volume::new(&ext260, wide).unwrap(), ExtinctionWeighted);
     let table = TauTable::new(D).unwrap();
-    let em8 = RayMarcher::new(
-        vol,
-        ExtinctionWeightedU8::new(&table),
-        Trilinear::new(),
-        FrontToBack::new(),
-        step,
-    )
-    .unwrap()
-    .with_isa(isa());
+    let em8 = trilinear(vol, ExtinctionWeightedU8::new(&table));
     let mut grid = vec![0u8; Occupancy::buffer_len([256; 3], 3)];
     let skip = ow.with_skipping(&mut grid, 3).unwrap();
     let n: u64 = rays.iter().map(|r| u64::from(ow.sample_range(r).1)).sum();
+    let n260: u64 = rays
+        .iter()
+        .map(|r| u64::from(ow260.sample_range(r).1))
+        .sum();
+    assert_eq!(n260, n, "the rays leave both volumes through the same face");
     let time = |f: &dyn Fn() -> f32| {
         let t = std::time::Instant::now();
         black_box(f());
@@ -208,7 +232,7 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         yardstick::tuned_rays_lanes()
     );
     let int_out = RefCell::new(vec![IntSample::TRANSPARENT; rays.len()]);
-    let passes: [(&str, &dyn Fn() -> f32); 14] = [
+    let passes: [(&str, &dyn Fn() -> f32); 16] = [
         ("OpacityWeighted f32", &|| {
             rays.iter().map(|r| all_channels(ow.cast(r))).sum()
         }),
@@ -256,13 +280,19 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
             yard(yardstick::naive)
         }),
         (&rays_name, &yard_rays),
+        ("OpacityWeighted f32, 260 × 256 × 256", &|| {
+            rays.iter().map(|r| all_channels(ow260.cast(r))).sum()
+        }),
+        ("ExtinctionWeighted f32, 16-byte voxels, 260 wide", &|| {
+            rays.iter().map(|r| all_channels(em260.cast(r))).sum()
+        }),
     ];
     // Round `k` starts with pass `k mod (number of passes)`, so every pass takes every place in the order
     // equally often and an effect of the place (of the passes run just before) is spread
     // over all of them instead of falling on one.
     let mut per = vec![Vec::new(); passes.len()];
     for round in 0..rounds {
-        let mut t = [0.0f64; 14];
+        let mut t = [0.0f64; 16];
         for k in 0..passes.len() {
             let i = (round + k) % passes.len();
             t[i] = time(passes[i].1);
@@ -282,7 +312,8 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
         v[v.len() / 2]
     };
     // Ratios against `OpacityWeighted` f32 one ray at a time (pass 0) and, for the packet
-    // passes, against `OpacityWeighted` f32 in packets (pass 6).
+    // passes, against `OpacityWeighted` f32 in packets (pass 6); for the 260-wide extinction
+    // pass (15), also against `OpacityWeighted` through the same volume (14).
     let ratio = |p: &[f64], base: &[f64]| median(p.iter().zip(base).map(|(a, b)| a / b).collect());
     println!("ray_march/interleaved: {rounds} rounds, 256³, {n} samples per pass");
     println!(
@@ -293,6 +324,8 @@ fn interleaved_ratios(v256: &[StraightU8], rays: &[Ray]) {
     for (k, ((name, _), p)) in passes.iter().zip(&per).enumerate() {
         let packed = if (6..11).contains(&k) {
             format!("   / OW f32 packets: {:.3}", ratio(p, &per[6]))
+        } else if k == 15 {
+            format!("   / OW f32 260 wide: {:.3}", ratio(p, &per[14]))
         } else {
             String::new()
         };
@@ -539,13 +572,7 @@ fn bench(c: &mut Criterion) {
 
     {
         // 256³ × 16 bytes: the extinction form of the same volume (τ for d′ = 0.5).
-        let ext: Vec<ExtinctionF32> = v256
-            .iter()
-            .map(|v| {
-                let [r, g, b, a] = v.0.map(|n| f32::from(n) / 255.0);
-                ExtinctionF32::from_straight(StraightF32 { c: [r, g, b], a }, D)
-            })
-            .collect();
+        let ext = extinction_of(&v256);
         let evol = Volume::new(&ext, [256; 3]).unwrap();
         let em = RayMarcher::new(
             evol,

@@ -28,6 +28,7 @@ use crate::each::Each;
 #[inline(never)]
 #[target_feature(enable = "avx2,fma")]
 pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, const ONE: bool>(
+    cpu: Avx2,
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     samples: &Samples,
@@ -44,6 +45,10 @@ pub(super) fn march8_avx2<V: Voxel, K: Kind, const A: usize, const REUSE: bool, 
         taus,
         corr,
     } = stage;
+    let taus = Taus {
+        table: taus,
+        gather: cpu.gathers(),
+    };
     let data = vol.data();
     let [nx, ny, nz] = vol.dims().each(|n| n as i32);
     // Per axis: (origin, direction, last voxel index, `n` as `f32`).

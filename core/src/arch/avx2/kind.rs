@@ -49,7 +49,7 @@ pub(crate) trait Kind {
         out: &mut [[__m256; 4]; 4],
         taps: &Taps<'_, V>,
         ks: [usize; 4],
-        taus: &[f32; 256],
+        taus: Taus<'_>,
     );
 
     /// The sums of the taps a [`Cell`] holds, at the fractions `f` (`[fx, fy, fz]`, from
@@ -57,11 +57,8 @@ pub(crate) trait Kind {
     unsafe fn cell_sums<const A: usize>(cell: &Cell<A>, f: [__m256; 3]) -> [__m256; 4];
 
     /// The sums of the taps read now.
-    unsafe fn tap_sums<V: Voxel>(
-        taps: &Taps<'_, V>,
-        f: [__m256; 3],
-        taus: &[f32; 256],
-    ) -> [__m256; 4];
+    unsafe fn tap_sums<V: Voxel>(taps: &Taps<'_, V>, f: [__m256; 3], taus: Taus<'_>)
+        -> [__m256; 4];
 
     /// The sample of the sums `s` for a step of length `d`, corrected by `corr`.
     unsafe fn finish(s: [__m256; 4], d: f32, corr: Self::Corr) -> [__m256; 4];
@@ -95,15 +92,30 @@ pub(crate) trait Kind {
     }
 }
 
+/// The `τ` of every opacity byte (`ExtinctionWeightedU8`'s `TauTable`; the other kinds ignore
+/// it), and how this CPU looks eight of them up at once.
+///
+/// By one gather instruction on Intel CPUs, by eight scalar loads on all others
+/// ([`Avx2::gathers`]): an eight-lane `vpgatherdd` is 5 micro-operations, one every 5 cycles,
+/// on Intel's Skylake, and 39, one every 8 cycles, on AMD's Zen 3 (uops.info's measurements),
+/// and the two ways measured the opposite way round on this project's Intel Xeon and AMD EPYC
+/// (the performance log, 2026-12-05 (late night) and 2026-12-07 (day)). Both give the same
+/// values; the choice is one predictable branch per tap read.
+#[derive(Debug, Clone, Copy)]
+pub struct Taus<'t> {
+    pub(crate) table: &'t [f32; 256],
+    pub(crate) gather: bool,
+}
+
 /// How the kernel reads a tap's channels, for each [`TapRead`] of the float modes.
 /// # Safety of the methods: the CPU must have AVX2 and FMA.
 pub trait ReadTaps {
     /// The channels of eight little-endian RGBA words: `[r, g, b, α]`, each `n/255`
     /// correctly rounded ([`channels`]); `taus` is the `τ` of every opacity byte (read by
-    /// [`TauOfAlpha8`] only).
+    /// [`TauOfAlpha8`] only, [`Taus`]).
     #[inline]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn channels(word: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
+    unsafe fn channels(word: __m256i, taus: Taus<'_>) -> [__m256; 4] {
         let _ = taus;
         channels(word)
     }
@@ -116,7 +128,7 @@ pub trait ReadTaps {
     unsafe fn tap<V: Voxel, const INSIDE: bool>(
         taps: &Taps<'_, V>,
         k: usize,
-        taus: &[f32; 256],
+        taus: Taus<'_>,
     ) -> [__m256; 4] {
         // SAFETY: the caller's contract (AVX2 and FMA), which this function has too.
         unsafe { Self::channels(taps.load::<INSIDE>(k), taus) }
@@ -126,16 +138,23 @@ pub trait ReadTaps {
 impl ReadTaps for Unorm8 {}
 
 impl ReadTaps for TauOfAlpha8 {
-    /// `[τ·r, τ·g, τ·b, τ]` with `τ = taus[α byte]`, as `TauTable::extinction`.
+    /// `[τ·r, τ·g, τ·b, τ]` with `τ = taus[α byte]`, as `TauTable::extinction`: the eight
+    /// `τ` by one gather where the CPU's gathers are fast ([`Taus`]), else by eight scalar
+    /// loads (the same values either way).
     #[inline]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn channels(word: __m256i, taus: &[f32; 256]) -> [__m256; 4] {
+    unsafe fn channels(word: __m256i, taus: Taus<'_>) -> [__m256; 4] {
         let [r, g, b, _] = channels(word);
-        // One gather for the eight lanes (faster than eight scalar lookups, each inserted into
-        // the vector: the performance log, 2026-12-05).
-        // SAFETY: every index is the top byte of a lane (`0..=255`), inside `taus`' 256 `f32`s;
-        // AVX2, which the gather needs, is this function's contract.
-        let tau = unsafe { _mm256_i32gather_ps::<4>(taus.as_ptr(), _mm256_srli_epi32::<24>(word)) };
+        let alpha = _mm256_srli_epi32::<24>(word);
+        let tau = if taus.gather {
+            // SAFETY: every index is the top byte of a lane (`0..=255`), inside the table's
+            // 256 `f32`s; AVX2, which the gather needs, is this function's contract.
+            unsafe { _mm256_i32gather_ps::<4>(taus.table.as_ptr(), alpha) }
+        } else {
+            // (Each index is below 256: `get` never misses, and its test folds away.)
+            let tau = |n: i32| taus.table.get(n as u32 as usize).copied().unwrap_or(0.0);
+            lanes(map8(to_i32s(alpha), tau))
+        };
         let mul = _mm256_mul_ps;
         [mul(tau, r), mul(tau, g), mul(tau, b), tau]
     }
@@ -148,7 +167,7 @@ impl ReadTaps for StoredF32x4 {
     unsafe fn tap<V: Voxel, const INSIDE: bool>(
         taps: &Taps<'_, V>,
         k: usize,
-        _taus: &[f32; 256],
+        _taus: Taus<'_>,
     ) -> [__m256; 4] {
         // SAFETY: the caller's contract: AVX2 and FMA, and `taps.inside()` where `INSIDE`.
         unsafe { taps.load_f32x4::<INSIDE>(k) }
@@ -163,7 +182,7 @@ impl ReadTaps for StoredF32x4 {
 #[target_feature(enable = "avx2,fma")]
 unsafe fn all_taps<R: ReadTaps, V: Voxel, const INSIDE: bool>(
     taps: &Taps<'_, V>,
-    taus: &[f32; 256],
+    taus: Taus<'_>,
 ) -> [[__m256; 4]; 8] {
     // SAFETY: the caller's contract (AVX2 and FMA, and `taps.inside()` where `INSIDE`), which
     // `ReadTaps::tap` asks for.
@@ -219,7 +238,7 @@ impl<M: LaneMode> Kind for M {
         out: &mut [[__m256; 4]; 4],
         taps: &Taps<'_, V>,
         ks: [usize; 4],
-        taus: &[f32; 256],
+        taus: Taus<'_>,
     ) {
         let [k0, _, k2, _] = ks;
         if A != 0 && taps.pairs() {
@@ -254,7 +273,7 @@ impl<M: LaneMode> Kind for M {
     unsafe fn tap_sums<V: Voxel>(
         taps: &Taps<'_, V>,
         f: [__m256; 3],
-        taus: &[f32; 256],
+        taus: Taus<'_>,
     ) -> [__m256; 4] {
         let w = weights(f);
         if taps.pairs() {
@@ -393,7 +412,7 @@ impl Kind for IntOw {
         out: &mut [[__m256; 4]; 4],
         taps: &Taps<'_, V>,
         ks: [usize; 4],
-        _taus: &[f32; 256],
+        _taus: Taus<'_>,
     ) {
         let [k0, _, k2, _] = ks;
         let [w0, w1, w2, w3] = if A != 0 && taps.pairs() {
@@ -433,7 +452,7 @@ impl Kind for IntOw {
     unsafe fn tap_sums<V: Voxel>(
         taps: &Taps<'_, V>,
         f: [__m256; 3],
-        _taus: &[f32; 256],
+        _taus: Taus<'_>,
     ) -> [__m256; 4] {
         let f = map3(f, |v| _mm256_castps_si256(v));
         if taps.pairs() {

@@ -115,15 +115,18 @@ mod tests;
 
 use kernel::*;
 pub use kind::ReadTaps;
-pub(crate) use kind::{IntOw, Kind};
+pub(crate) use kind::{IntOw, Kind, Taus};
 use lanes::*;
 use sums::*;
 use taps::*;
 
 /// Proof that this CPU runs AVX2 and FMA instructions: made only by [`detect`](Self::detect).
+/// It also says whether the CPU's gather instructions are fast ([`gathers`](Self::gathers)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub(crate) struct Avx2(());
+pub(crate) struct Avx2 {
+    gathers: bool,
+}
 
 impl Avx2 {
     /// The token, where CPUID says the CPU has AVX2 and FMA and the operating system saves
@@ -135,11 +138,12 @@ impl Avx2 {
         // under Miri (so "no AVX2" unless the run enables `avx2` and `fma`).
         if cfg!(miri) {
             return (cfg!(target_feature = "avx2") && cfg!(target_feature = "fma"))
-                .then_some(Avx2(()));
+                .then_some(Avx2 { gathers: false });
         }
         // Leaf 1, ECX: bit 12 FMA, bit 27 OSXSAVE, bit 28 AVX; leaf 7 sub-leaf 0, EBX: bit 5
         // AVX2 (Intel SDM vol. 2A, CPUID; AMD APM vol. 3, appendix E).
-        if __cpuid(0).eax < 7 {
+        let leaf0 = __cpuid(0);
+        if leaf0.eax < 7 {
             return None;
         }
         let ecx = __cpuid(1).ecx;
@@ -151,7 +155,20 @@ impl Avx2 {
         // (bit 27, tested above) reports.
         let xcr0 = unsafe { xcr0() };
         let ebx = __cpuid_count(7, 0).ebx;
-        (xcr0 & 0b110 == 0b110 && bit(ebx, 5)).then_some(Avx2(()))
+        (xcr0 & 0b110 == 0b110 && bit(ebx, 5)).then_some(Avx2 {
+            gathers: intel(leaf0),
+        })
+    }
+
+    /// Whether the kernels look up eight table entries by one gather instruction (on Intel
+    /// CPUs, whose gathers are a few micro-operations) rather than by eight scalar loads (on
+    /// every other vendor's: an AMD Zen 3 gather is dozens of micro-operations, and the
+    /// scalar loads were faster there; other CPUs are untested, and the scalar loads are the
+    /// way that no CPU runs badly). Only speed depends on it, never a result (`Taus` in
+    /// `kind`).
+    #[inline(always)]
+    pub(crate) fn gathers(self) -> bool {
+        self.gathers
     }
 
     /// Runs `f` inside a function compiled for AVX2 and FMA, into which `f` and the
@@ -161,6 +178,11 @@ impl Avx2 {
         // SAFETY: `self` exists only where `detect` found AVX2 and FMA on this CPU.
         unsafe { run_avx2(f) }
     }
+}
+
+/// Whether CPUID's vendor string (leaf 0: EBX, EDX, ECX) is `GenuineIntel`.
+fn intel(leaf0: CpuidResult) -> bool {
+    [leaf0.ebx, leaf0.edx, leaf0.ecx] == [0x756e_6547, 0x4965_6e69, 0x6c65_746e]
 }
 
 /// XCR0, the register of the state components the OS saves.
@@ -292,15 +314,15 @@ pub(crate) struct Stage<'t, C> {
 /// `IntPos::quantize`), sampled by [`int_sums`] (`IntMode::combine`, bit for bit) and
 /// composited by `fixed_point::front_to_back` until `A ≥ a_stop` before a sample.
 pub(crate) fn march8<V: Voxel, K: Kind>(
-    _cpu: Avx2,
+    cpu: Avx2,
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     samples: &Samples,
     stage: Stage<'_, K::Corr>,
 ) -> [K::Out; LANES] {
-    // SAFETY: `march8_any` needs a CPU with AVX2 and FMA; `_cpu` exists only where
+    // SAFETY: `march8_any` needs a CPU with AVX2 and FMA; `cpu` exists only where
     // `Avx2::detect` found them on this CPU.
-    let [r, g, b, a] = unsafe { march8_any::<V, K>(vol, rays, samples, stage) };
+    let [r, g, b, a] = unsafe { march8_any::<V, K>(cpu, vol, rays, samples, stage) };
     let mut out = [K::out([0; 4]); LANES];
     for ((((o, r), g), b), a) in out.iter_mut().zip(r).zip(g).zip(b).zip(a) {
         *o = K::out([r, g, b, a]);
@@ -315,7 +337,7 @@ pub(crate) fn march8<V: Voxel, K: Kind>(
 /// one-ray march (`cast_counted`) of the kind `K` where the samples left out are
 /// transparent, as [`march8`] (whose requirements on `V`, `vol` and `a_stop` hold here too).
 pub(crate) fn march_one<V: Voxel, K: Kind>(
-    _cpu: Avx2,
+    cpu: Avx2,
     vol: &Volume<'_, V>,
     ray: &Ray,
     samples: &Samples,
@@ -323,7 +345,7 @@ pub(crate) fn march_one<V: Voxel, K: Kind>(
 ) -> (K::Out, u32) {
     let rays = [*ray; LANES];
     // SAFETY: as in `march8`.
-    let out = unsafe { march8_avx2::<V, K, 2, false, true>(vol, &rays, samples, stage) };
+    let out = unsafe { march8_avx2::<V, K, 2, false, true>(cpu, vol, &rays, samples, stage) };
     let [[r, n, ..], [g, ..], [b, ..], [a, ..]] = out;
     (K::out([r, g, b, a]), n as u32)
 }
@@ -339,6 +361,7 @@ pub(crate) fn fits_int<V: Voxel>(vol: &Volume<'_, V>) -> bool {
 /// axis, others without): the accumulated `[r, g, b, α]` lanes as bit patterns.
 #[target_feature(enable = "avx2,fma")]
 fn march8_any<V: Voxel, K: Kind>(
+    cpu: Avx2,
     vol: &Volume<'_, V>,
     rays: &[Ray; LANES],
     samples: &Samples,
@@ -346,12 +369,12 @@ fn march8_any<V: Voxel, K: Kind>(
 ) -> [[i32; LANES]; 4] {
     let [r0, ..] = rays;
     if rays.iter().any(|r| r.dir() != r0.dir()) {
-        march8_avx2::<V, K, 2, false, false>(vol, rays, samples, stage)
+        march8_avx2::<V, K, 2, false, false>(cpu, vol, rays, samples, stage)
     } else {
         match major_axis(r0.dir()) {
-            0 => march8_avx2::<V, K, 0, true, false>(vol, rays, samples, stage),
-            1 => march8_avx2::<V, K, 1, true, false>(vol, rays, samples, stage),
-            _ => march8_avx2::<V, K, 2, true, false>(vol, rays, samples, stage),
+            0 => march8_avx2::<V, K, 0, true, false>(cpu, vol, rays, samples, stage),
+            1 => march8_avx2::<V, K, 1, true, false>(cpu, vol, rays, samples, stage),
+            _ => march8_avx2::<V, K, 2, true, false>(cpu, vol, rays, samples, stage),
         }
     }
 }

@@ -264,7 +264,7 @@ impl<const A: usize> Cell<A> {
     pub(super) fn read<V: Voxel, K: Kind, const SIDE: usize>(
         &mut self,
         taps: &Taps<'_, V>,
-        taus: &[f32; 256],
+        taus: Taus<'_>,
     ) {
         let [f0, f1] = &mut self.faces;
         let out = if (self.near ^ SIDE) & 1 == 0 { f0 } else { f1 };
