@@ -95,12 +95,13 @@ pub(crate) trait Kind {
 /// The `τ` of every opacity byte (`ExtinctionWeightedU8`'s `TauTable`; the other kinds ignore
 /// it), and how this CPU looks eight of them up at once.
 ///
-/// By one gather instruction on Intel CPUs, by eight scalar loads on all others
-/// ([`Avx2::gathers`]): an eight-lane `vpgatherdd` is 5 micro-operations, one every 5 cycles,
-/// on Intel's Skylake, and 39, one every 8 cycles, on AMD's Zen 3 (uops.info's measurements),
-/// and the two ways measured the opposite way round on this project's Intel Xeon and AMD EPYC
-/// (the performance log, 2026-12-05 (late night) and 2026-12-07 (day)). Both give the same
-/// values; the choice is one predictable branch per tap read.
+/// By one gather instruction where the CPU's gathers are fast (Intel's, but for the models
+/// that mitigate Gather Data Sampling), by eight scalar loads on all others ([`Avx2::gathers`]):
+/// an eight-lane gather is 5 micro-operations, one every 5 cycles, on Intel's Skylake, and 39,
+/// one every 8 cycles, on AMD's Zen 3 (uops.info's measurements), and the two ways measured
+/// the opposite way round on this project's Intel Xeon and AMD EPYC (the performance log,
+/// 2026-12-05 (late night) and 2026-12-07 (day)). Both give the same values; the choice is
+/// one predictable branch per tap read.
 #[derive(Debug, Clone, Copy)]
 pub struct Taus<'t> {
     pub(crate) table: &'t [f32; 256],

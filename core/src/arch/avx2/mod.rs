@@ -146,7 +146,8 @@ impl Avx2 {
         if leaf0.eax < 7 {
             return None;
         }
-        let ecx = __cpuid(1).ecx;
+        let leaf1 = __cpuid(1);
+        let ecx = leaf1.ecx;
         let bit = |r: u32, b: u32| r & (1 << b) != 0;
         if !(bit(ecx, 12) && bit(ecx, 27) && bit(ecx, 28)) {
             return None;
@@ -156,16 +157,13 @@ impl Avx2 {
         let xcr0 = unsafe { xcr0() };
         let ebx = __cpuid_count(7, 0).ebx;
         (xcr0 & 0b110 == 0b110 && bit(ebx, 5)).then_some(Avx2 {
-            gathers: intel(leaf0),
+            gathers: fast_gathers(leaf0, leaf1),
         })
     }
 
-    /// Whether the kernels look up eight table entries by one gather instruction (on Intel
-    /// CPUs, whose gathers are a few micro-operations) rather than by eight scalar loads (on
-    /// every other vendor's: an AMD Zen 3 gather is dozens of micro-operations, and the
-    /// scalar loads were faster there; other CPUs are untested, and the scalar loads are the
-    /// way that no CPU runs badly). Only speed depends on it, never a result (`Taus` in
-    /// `kind`).
+    /// Whether the kernels look up eight table entries by one gather instruction rather than
+    /// by eight scalar loads ([`fast_gathers`]). Only speed depends on it, never a result
+    /// (`Taus` in `kind`).
     #[inline(always)]
     pub(crate) fn gathers(self) -> bool {
         self.gathers
@@ -180,9 +178,28 @@ impl Avx2 {
     }
 }
 
-/// Whether CPUID's vendor string (leaf 0: EBX, EDX, ECX) is `GenuineIntel`.
-fn intel(leaf0: CpuidResult) -> bool {
-    [leaf0.ebx, leaf0.edx, leaf0.ecx] == [0x756e_6547, 0x4965_6e69, 0x6c65_746e]
+/// Whether this CPU's gathers are fast (a few micro-operations), from CPUID leaves 0 (the
+/// vendor string in EBX, EDX, ECX) and 1 (EAX: family and model): an Intel CPU that is not
+/// one of the models affected by Gather Data Sampling.
+///
+/// Measured on this project's machines: on an Intel Xeon (family 6, model 207) the gather
+/// was the faster way, on an AMD EPYC (Zen 3) the scalar loads (an AMD Zen 3 gather is 39
+/// micro-operations by uops.info's measurements). Inferred, not measured here: the models
+/// that Linux lists as affected by Gather Data Sampling (`cpu_vuln_blacklist`, `GDS`:
+/// Skylake, Kaby Lake, Coffee Lake, Ice Lake, Comet Lake, Tiger Lake, Rocket Lake) run gathers
+/// far slower under the microcode that mitigates it, so they take the scalar loads; so does
+/// every other vendor's CPU, the way that no CPU runs badly.
+fn fast_gathers(leaf0: CpuidResult, leaf1: CpuidResult) -> bool {
+    let intel = [leaf0.ebx, leaf0.edx, leaf0.ecx] == [0x756e_6547, 0x4965_6e69, 0x6c65_746e];
+    // Family 6: the model is EAX bits 4–7 with the extended model (bits 16–19) above them.
+    let family = (leaf1.eax >> 8) & 0xf;
+    let model = ((leaf1.eax >> 4) & 0xf) | (((leaf1.eax >> 16) & 0xf) << 4);
+    /// Skylake (0x4E, 0x55, 0x5E), Kaby and Coffee Lake (0x8E, 0x9E), Ice Lake (0x6A, 0x6C,
+    /// 0x7E), Comet Lake (0xA5, 0xA6), Tiger Lake (0x8C, 0x8D), Rocket Lake (0xA7).
+    const GDS: [u32; 13] = [
+        0x4E, 0x55, 0x5E, 0x8E, 0x9E, 0x6A, 0x6C, 0x7E, 0xA5, 0xA6, 0x8C, 0x8D, 0xA7,
+    ];
+    intel && family == 6 && !GDS.contains(&model)
 }
 
 /// XCR0, the register of the state components the OS saves.

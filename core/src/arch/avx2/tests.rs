@@ -600,3 +600,59 @@ fn tau_lookup_check(cpu: Avx2) -> Result<(), crate::Error> {
     }
     Ok(())
 }
+
+/// `fast_gathers` from CPUID's leaves 0 and 1: Intel family 6 outside the models affected by
+/// Gather Data Sampling, nothing else. EAX of leaf 1 as the Intel SDM lays it out (stepping in
+/// bits 0–3, model 4–7, family 8–11, extended model 16–19); the vendor strings spelled out.
+#[test]
+fn gathers_are_fast_only_on_intel_outside_gather_data_sampling() {
+    let vendor = |name: &[u8; 12]| {
+        let word = |k: usize| {
+            let b = |i: usize| u32::from(name.get(k + i).copied().unwrap_or(0));
+            b(0) | (b(1) << 8) | (b(2) << 16) | (b(3) << 24)
+        };
+        CpuidResult {
+            eax: 0x20,
+            ebx: word(0),
+            edx: word(4),
+            ecx: word(8),
+        }
+    };
+    let eax = |family: u32, model: u32| {
+        let (ext_family, family) = if family > 15 {
+            (family - 15, 15)
+        } else {
+            (0, family)
+        };
+        (ext_family << 20) | ((model >> 4) << 16) | (family << 8) | ((model & 0xf) << 4) | 2
+    };
+    let leaf1 = |family, model| CpuidResult {
+        eax: eax(family, model),
+        ebx: 0,
+        ecx: 0,
+        edx: 0,
+    };
+    let (intel, amd) = (vendor(b"GenuineIntel"), vendor(b"AuthenticAMD"));
+    // Emerald Rapids (the project's Xeon: family 6, model 207), Sapphire Rapids, Alder Lake.
+    for model in [0xCF, 0x8F, 0x97] {
+        assert!(
+            fast_gathers(intel, leaf1(6, model)),
+            "Intel model {model:#x}"
+        );
+    }
+    // Skylake-SP, Ice Lake-SP, Tiger Lake: Gather Data Sampling.
+    for model in [0x55, 0x6A, 0x8C] {
+        assert!(
+            !fast_gathers(intel, leaf1(6, model)),
+            "Intel model {model:#x}"
+        );
+    }
+    // AMD Zen 3 (family 25, model 1: the project's EPYC) and Zen 4; another family of Intel's.
+    assert!(!fast_gathers(amd, leaf1(25, 0x01)));
+    assert!(!fast_gathers(amd, leaf1(25, 0x11)));
+    assert!(!fast_gathers(intel, leaf1(15, 0x06)));
+    // This CPU: the token's answer is `fast_gathers` of its own CPUID (which Miri cannot run).
+    if let (false, Some(cpu)) = (cfg!(miri), Avx2::detect()) {
+        assert_eq!(cpu.gathers(), fast_gathers(__cpuid(0), __cpuid(1)));
+    }
+}
