@@ -104,11 +104,11 @@ impl TauTable {
 /// The table's `d′` is the distance the stored opacities hold for; an extinction mode never
 /// corrects opacity, so the volume's own reference distance is not used.
 ///
-/// It saves memory (4 bytes a voxel against 16), and time only in some builds: the
-/// `ray_march` bench (2026-11-29, same-load rounds) put it at 0.78× the time of the 16-byte
-/// form in `cast` and 0.93× in the eight-ray packets of the AVX2 build, 1.06× in `cast` and
-/// 1.30× in the four-ray packets of the baseline x86-64 build (the per-tap conversion costs
-/// about what the narrower loads save; see the README's performance section).
+/// It saves memory (4 bytes a voxel against 16); whether it saves time depends on the
+/// machine and the volume: each tap costs a table lookup and three products, against reads a
+/// quarter as wide. Where the volume is large and its rows of 16-byte voxels would be a
+/// multiple of 4 KiB (256 voxels wide, say), the narrower voxels also spare the caches the
+/// set conflicts of such rows. The README's performance section has the measurements.
 ///
 /// ```
 /// use volsample::mode::{ExtinctionWeightedU8, TauTable};
