@@ -8,12 +8,13 @@
 //! Every method is an `unsafe fn` compiled for AVX2 and FMA, inlined into the kernel, which is
 //! compiled so too: its one requirement is a CPU with AVX2 and FMA, which the kernel's callers
 //! prove with an [`Avx2`] token. Most carry `#[target_feature]` and an `#[inline]` hint; the
-//! reads of a face of both kinds and the integer kind's tap sums are `#[inline(always)]`
-//! instead (which `#[target_feature]` does not allow), compiled in the kernel's instruction
-//! set once inlined: with the hint alone LLVM kept them as calls in the step loop, whose
-//! arguments and results then went through memory (the performance log, 2026-12-06, has the
-//! effect). The float kinds' `tap_sums` keeps the hint: inlined into the loop of the packets
-//! of rays in every direction, it made them slower.
+//! reads of a face of both kinds and the tap sums of both are `#[inline(always)]` instead
+//! (which `#[target_feature]` does not allow), compiled in the kernel's instruction set once
+//! inlined: with the hint alone LLVM kept them as calls in the step loop, whose arguments and
+//! results then went through memory (the performance log, 2026-12-06 and 2026-12-07, has the
+//! effect). Of the float kinds' tap sums only the pair reads are inlined; the reads of each
+//! tap's voxels alone (16-byte voxels, taps not side by side) stay one call per step
+//! (`tap_sums_apart`): inlined too, they made the packets of rays in every direction slower.
 
 use core::arch::x86_64::*;
 
@@ -269,40 +270,29 @@ impl<M: LaneMode> Kind for M {
         mode_sums::<M::W>(|k| cell.tap(k), &weights(f))
     }
 
-    #[inline]
-    #[target_feature(enable = "avx2,fma")]
+    #[inline(always)]
     unsafe fn tap_sums<V: Voxel>(
         taps: &Taps<'_, V>,
         f: [__m256; 3],
         taus: Taus<'_>,
     ) -> [__m256; 4] {
-        let w = weights(f);
         if taps.pairs() {
+            let w = weights(f);
             // The four pairs' words first (eight registers), then each tap's channels when
             // the sums come to it.
             let [[w0, w1], [w2, w3], [w4, w5], [w6, w7]] =
                 map4([0, 2, 4, 6], |k| taps.load_pair(k));
             let words = [w0, w1, w2, w3, w4, w5, w6, w7];
             let word = |k: usize| words.get(k).copied().unwrap_or(_mm256_setzero_si256());
-            // SAFETY: the caller's contract (AVX2 and FMA), which this function has too.
+            // SAFETY: the caller's contract (AVX2 and FMA): this function is inlined into the
+            // kernel, compiled for them.
             mode_sums::<M::W>(
                 |k| unsafe { <M::Taps as ReadTaps>::channels(word(k), taus) },
                 &w,
             )
-        } else if taps.inside() {
-            // SAFETY: as above, and `taps.inside()` for `INSIDE`.
-            let c = unsafe { all_taps::<M::Taps, V, true>(taps, taus) };
-            mode_sums::<M::W>(
-                |k| c.get(k).copied().unwrap_or([_mm256_setzero_ps(); 4]),
-                &w,
-            )
         } else {
             // SAFETY: as above.
-            let c = unsafe { all_taps::<M::Taps, V, false>(taps, taus) };
-            mode_sums::<M::W>(
-                |k| c.get(k).copied().unwrap_or([_mm256_setzero_ps(); 4]),
-                &w,
-            )
+            unsafe { tap_sums_apart::<M, V>(taps, f, taus) }
         }
     }
 
@@ -546,5 +536,32 @@ impl Kind for IntOw {
         } else {
             total
         }
+    }
+}
+
+/// [`Kind::tap_sums`] of taps not side by side: each tap's eight voxels read alone (out of
+/// line).
+#[inline(never)]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn tap_sums_apart<M: LaneMode, V: Voxel>(
+    taps: &Taps<'_, V>,
+    f: [__m256; 3],
+    taus: Taus<'_>,
+) -> [__m256; 4] {
+    let w = weights(f);
+    if taps.inside() {
+        // SAFETY: the caller's contract (AVX2 and FMA), and `taps.inside()` for `INSIDE`.
+        let c = unsafe { all_taps::<M::Taps, V, true>(taps, taus) };
+        mode_sums::<M::W>(
+            |k| c.get(k).copied().unwrap_or([_mm256_setzero_ps(); 4]),
+            &w,
+        )
+    } else {
+        // SAFETY: as above.
+        let c = unsafe { all_taps::<M::Taps, V, false>(taps, taus) };
+        mode_sums::<M::W>(
+            |k| c.get(k).copied().unwrap_or([_mm256_setzero_ps(); 4]),
+            &w,
+        )
     }
 }

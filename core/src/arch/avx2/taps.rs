@@ -24,8 +24,9 @@ pub struct Taps<'d, V> {
     /// formats.
     bytes: Option<&'d [StraightU8]>,
     /// Set only by `new`, and only where `inside`, `bytes` is there and, in every lane, the
-    /// index of each odd tap `k + 1` is that of tap `k` plus one: the x neighbours lie side by
-    /// side in memory.
+    /// index `i` of each even tap `k` has `i + 1 < data.len()` and the odd tap `k + 1` is at
+    /// `i + 1` or (an x coordinate clamped at an edge of the grid) at `i`: the x neighbours
+    /// lie side by side in memory, or are one voxel.
     pairs: bool,
     /// The voxels, read by [`load_f32x4`](Self::load_f32x4) as `ExtinctionF32` or
     /// `StraightF32` (`Voxel::as_extinction_f32`, `as_straight_f32`: the same slice retyped,
@@ -52,22 +53,29 @@ impl<'d, V: Voxel> Taps<'d, V> {
     pub(super) fn new(data: &'d [V], at: [__m256i; 8]) -> Self {
         let [a0, a1, a2, a3, a4, a5, a6, a7] = at;
         let max = |a, b| _mm256_max_epu32(a, b);
-        let max = max(max(max(a0, a1), max(a2, a3)), max(max(a4, a5), max(a6, a7)));
+        let even = max(max(a0, a2), max(a4, a6));
+        let all = max(even, max(max(a1, a3), max(a5, a7)));
         // `last` is the last index as an `i32` where the length is `1..=i32::MAX` (`fits`
         // holds for every volume the kernel is given; the test below repeats it).
         let len = data.len();
         let last = _mm256_set1_epi32((len as i32).wrapping_sub(1));
-        let below = _mm256_cmpeq_epi32(_mm256_max_epu32(max, last), last);
-        let inside = (1..=i32::MAX as usize).contains(&len) && _mm256_movemask_epi8(below) == -1;
-        let [a0, a1, a2, a3, a4, a5, a6, a7] = at;
+        let at_most = |m: __m256i, bound: __m256i| {
+            _mm256_movemask_epi8(_mm256_cmpeq_epi32(_mm256_max_epu32(m, bound), bound)) == -1
+        };
+        let inside = (1..=i32::MAX as usize).contains(&len) && at_most(all, last);
+        // Every even tap's pair in the data (`i ≤ len − 2`, unsigned: false for `len < 2`,
+        // where `len − 2` wraps to a bound no index reaches, and `inside` fails anyway for 0),
+        // and every odd tap at its even tap's index plus 0 or 1 (unsigned difference ≤ 1).
         let one = _mm256_set1_epi32(1);
-        let next = |a: __m256i, b: __m256i| _mm256_cmpeq_epi32(_mm256_add_epi32(a, one), b);
-        let side_by_side = _mm256_and_si256(
-            _mm256_and_si256(next(a0, a1), next(a2, a3)),
-            _mm256_and_si256(next(a4, a5), next(a6, a7)),
+        let pair_end = _mm256_set1_epi32((len as i32).wrapping_sub(2));
+        let step = |a: __m256i, b: __m256i| _mm256_sub_epi32(b, a);
+        let steps = max(
+            max(step(a0, a1), step(a2, a3)),
+            max(step(a4, a5), step(a6, a7)),
         );
         let bytes = V::as_straight_u8(data).filter(|b| b.len() == len);
-        let pairs = inside && bytes.is_some() && _mm256_movemask_epi8(side_by_side) == -1;
+        let pairs =
+            inside && len >= 2 && bytes.is_some() && at_most(even, pair_end) && at_most(steps, one);
         Self {
             at,
             inside,
@@ -149,23 +157,23 @@ impl<'d, V: Voxel> Taps<'d, V> {
     }
 
     /// The voxels of taps `k` and `k + 1` (`k` even: x neighbours), as [`load`](Self::load)
-    /// of each, in one 8-byte read per lane (the two words side by side) without bounds checks
-    /// where `pairs` (a caller that has tested `pairs` calls it only then; elsewhere it falls
-    /// back to the checked loads).
+    /// of each, in one 8-byte read per lane (the voxel of tap `k` and the one after it, which
+    /// is tap `k + 1`'s unless the two taps are one voxel: then tap `k`'s word in both) without
+    /// bounds checks where `pairs` (a caller that has tested `pairs` calls it only then;
+    /// elsewhere it falls back to the checked loads).
     #[inline]
     #[target_feature(enable = "avx2,fma")]
     pub(super) fn load_pair(&self, k: usize) -> [__m256i; 2] {
-        let (at, bytes) = match (self.at.get(k), self.bytes) {
-            (Some(&at), Some(bytes)) if self.pairs && k % 2 == 0 => (to_i32s(at), bytes),
+        let (at, odd, bytes) = match (self.at.get(k), self.at.get(k + 1), self.bytes) {
+            (Some(&at), Some(&odd), Some(bytes)) if self.pairs && k % 2 == 0 => (at, odd, bytes),
             _ => return self.load_two(k),
         };
-        let [i0, i1, i2, i3, i4, i5, i6, i7] = at;
+        let [i0, i1, i2, i3, i4, i5, i6, i7] = to_i32s(at);
         let pair = |i: i32| {
             let i = i as u32 as usize;
-            // SAFETY: `pairs`: tap `k + 1`'s index is `i + 1` (`k` even) and, by `inside`,
-            // below `data.len()` = `bytes.len()`, as is `i`; the two `StraightU8`
-            // (`repr(transparent)` over `[u8; 4]`) are eight initialised bytes side by side,
-            // read unaligned.
+            // SAFETY: `pairs`: `i + 1 < data.len()` = `bytes.len()` for the index `i` of every
+            // even tap `k`; the two `StraightU8` (`repr(transparent)` over `[u8; 4]`) are
+            // eight initialised bytes side by side, read unaligned.
             unsafe {
                 let two = bytes.get_unchecked(i..i + 2);
                 two.as_ptr().cast::<i64>().read_unaligned()
@@ -179,10 +187,11 @@ impl<'d, V: Voxel> Taps<'d, V> {
         };
         let a = four(half(i0, i1), half(i4, i5));
         let b = four(half(i2, i3), half(i6, i7));
-        [
-            _mm256_castps_si256(_mm256_shuffle_ps::<0b10_00_10_00>(a, b)),
-            _mm256_castps_si256(_mm256_shuffle_ps::<0b11_01_11_01>(a, b)),
-        ]
+        let even = _mm256_castps_si256(_mm256_shuffle_ps::<0b10_00_10_00>(a, b));
+        let next = _mm256_castps_si256(_mm256_shuffle_ps::<0b11_01_11_01>(a, b));
+        // Tap `k + 1` is tap `k`'s voxel where its index is the same (`pairs`: else the next).
+        let same = _mm256_cmpeq_epi32(at, odd);
+        [even, _mm256_blendv_epi8(next, even, same)]
     }
 
     /// Taps `k` and `k + 1` by the checked [`load`](Self::load): [`load_pair`](Self::load_pair)

@@ -71,9 +71,10 @@ fn taps_check() {
     assert!(!Taps::<StraightU8>::new(&[], [indices([0; LANES]); 8]).inside());
 }
 
-/// `Taps::new` sets `pairs` exactly where every odd tap lies just after its even one, all
-/// inside, in `StraightU8` data; `load_pair` reads what `load` reads, with `pairs` or
-/// without (its fallback), for even and odd `k`.
+/// `Taps::new` sets `pairs` exactly where every odd tap lies just after its even one or at
+/// it (x clamped at an edge), all inside and every even tap's pair too, in `StraightU8`
+/// data; `load_pair` reads what `load` reads, with `pairs` or without (its fallback), for
+/// even and odd `k`.
 #[test]
 #[cfg_attr(
     all(miri, not(all(target_feature = "avx2", target_feature = "fma"))),
@@ -114,7 +115,26 @@ fn pairs_check() {
     let mut outside = side_by_side;
     outside[0] = indices([0, 3, 7, 2, 10, 19, 5, 11]);
     outside[1] = indices([1, 4, 8, 3, 11, 20, 6, 12]);
-    for (at, pairs) in [(side_by_side, true), (apart, false), (outside, false)] {
+    // x clamped at an edge of the grid in some lanes: tap `k + 1` is tap `k`'s voxel there,
+    // read from the pair starting at it.
+    let mut clamped = side_by_side;
+    clamped[3] = indices([0, 4, 7, 3, 10, 18, 6, 11]);
+    clamped[7] = indices(even);
+    // The same, but with tap `k` the last voxel of the data: its pair would end outside.
+    let mut last = clamped;
+    last[2] = indices([0, 3, 7, 2, 10, 19, 5, 11]);
+    last[3] = indices([0, 4, 7, 3, 10, 19, 6, 11]);
+    // One step of 2 between taps `k` and `k + 1`, or one of −1.
+    let mut backwards = side_by_side;
+    backwards[1] = indices([1, 4, 8, 1, 11, 19, 6, 12]);
+    for (at, pairs) in [
+        (side_by_side, true),
+        (apart, false),
+        (outside, false),
+        (clamped, true),
+        (last, false),
+        (backwards, false),
+    ] {
         let taps = Taps::new(&data, at);
         assert_eq!(taps.pairs(), pairs);
         let others = Taps::new(&other, at);
