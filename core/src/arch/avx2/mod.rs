@@ -31,9 +31,9 @@
 //! sixteen 4-byte loads and inserts, and a blend puts tap `k`'s word in the lanes where the
 //! two are one voxel); the test is a dozen vector operations per read. Faces across y or z
 //! are two such pairs; faces across x (x-major parallel rays) none. In a probe this took
-//! perspective packets from 8.4–11.0 to 7.4–7.6 ns/sample; taking the clamped lanes too (a
-//! packet near an x edge of a 32³ volume had read each tap's voxels alone: a fifth of the
-//! steps of the bench's perspective view) saved another tenth of the kernel's instructions.
+//! perspective packets from 8.4–11.0 to 7.4–7.6 ns/sample. Taking the clamped lanes too (a
+//! packet with a lane at an x edge had read each tap's voxels alone: a fifth of the steps of
+//! the bench's perspective view of 32³) saved 1.6 % of that view's kernel instructions.
 //!
 //! **Bit-identical to [`RayMarcher::cast`](crate::RayMarcher::cast)** per ray: each lane
 //! performs the one-ray kernel's `f32` operations in the same order — `t = t₀ + j·d`,

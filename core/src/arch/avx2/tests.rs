@@ -124,7 +124,7 @@ fn pairs_check() {
     let mut last = clamped;
     last[2] = indices([0, 3, 7, 2, 10, 19, 5, 11]);
     last[3] = indices([0, 4, 7, 3, 10, 19, 6, 11]);
-    // One step of 2 between taps `k` and `k + 1`, or one of −1.
+    // A step of −1 from tap `k` to tap `k + 1` (`apart` has one of 2).
     let mut backwards = side_by_side;
     backwards[1] = indices([1, 4, 8, 1, 11, 19, 6, 12]);
     for (at, pairs) in [
