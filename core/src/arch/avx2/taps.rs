@@ -63,9 +63,9 @@ impl<'d, V: Voxel> Taps<'d, V> {
             _mm256_movemask_epi8(_mm256_cmpeq_epi32(_mm256_max_epu32(m, bound), bound)) == -1
         };
         let inside = (1..=i32::MAX as usize).contains(&len) && at_most(all, last);
-        // Every even tap's pair in the data (`i ≤ len − 2`, unsigned: false for `len < 2`,
-        // where `len − 2` wraps to a bound no index reaches, and `inside` fails anyway for 0),
-        // and every odd tap at its even tap's index plus 0 or 1 (unsigned difference ≤ 1).
+        // Every even tap's pair in the data (`i ≤ len − 2`, unsigned; `len ≥ 2` is tested
+        // apart, since below it `len − 2` wraps to a bound every index meets), and every odd
+        // tap at its even tap's index plus 0 or 1 (unsigned difference ≤ 1).
         let one = _mm256_set1_epi32(1);
         let pair_end = _mm256_set1_epi32((len as i32).wrapping_sub(2));
         let step = |a: __m256i, b: __m256i| _mm256_sub_epi32(b, a);

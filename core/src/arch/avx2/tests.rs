@@ -127,6 +127,9 @@ fn pairs_check() {
     // A step of −1 from tap `k` to tap `k + 1` (`apart` has one of 2).
     let mut backwards = side_by_side;
     backwards[1] = indices([1, 4, 8, 1, 11, 19, 6, 12]);
+    // One voxel: inside, but no pair fits (every lane's taps clamped together).
+    assert!(Taps::new(&data[..1], [indices([0; LANES]); 8]).inside());
+    assert!(!Taps::new(&data[..1], [indices([0; LANES]); 8]).pairs());
     for (at, pairs) in [
         (side_by_side, true),
         (apart, false),
