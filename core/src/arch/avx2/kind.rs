@@ -18,9 +18,10 @@
 
 use core::arch::x86_64::*;
 
+use super::reads::all_taps;
 use super::*;
 use crate::each::Each;
-use crate::mode::{LaneMode, StoredF32x4, TauOfAlpha8, Unorm8};
+use crate::mode::LaneMode;
 use crate::opacity::Correction;
 
 /// The per-step operations of one kind of kernel (see the module doc). # Safety of every
@@ -93,115 +94,6 @@ pub(crate) trait Kind {
     }
 }
 
-/// The `τ` of every opacity byte (`ExtinctionWeightedU8`'s `TauTable`; the other kinds ignore
-/// it), and how this CPU looks eight of them up at once.
-///
-/// By one gather instruction where the CPU's gathers are fast (Intel's, but for the models
-/// that mitigate Gather Data Sampling), by eight scalar loads on all others ([`Avx2::gathers`]):
-/// an eight-lane gather is 5 micro-operations, one every 5 cycles, on Intel's Skylake, and 39,
-/// one every 8 cycles, on AMD's Zen 3 (uops.info's measurements), and the two ways measured
-/// the opposite way round on this project's Intel Xeon and AMD EPYC (the performance log,
-/// 2026-12-05 (late night) and 2026-12-07 (day)). Both give the same values; the choice is
-/// one predictable branch per tap read.
-#[derive(Debug, Clone, Copy)]
-pub struct Taus<'t> {
-    pub(crate) table: &'t [f32; 256],
-    pub(crate) gather: bool,
-}
-
-/// How the kernel reads a tap's channels, for each [`TapRead`] of the float modes.
-/// # Safety of the methods: the CPU must have AVX2 and FMA.
-pub trait ReadTaps {
-    /// The channels of eight little-endian RGBA words: `[r, g, b, α]`, each `n/255`
-    /// correctly rounded ([`channels`]); `taus` is the `τ` of every opacity byte (read by
-    /// [`TauOfAlpha8`] only, [`Taus`]).
-    #[inline]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn channels(word: __m256i, taus: Taus<'_>) -> [__m256; 4] {
-        let _ = taus;
-        channels(word)
-    }
-
-    /// The channels of tap `k` (its words' [`channels`](Self::channels)); `INSIDE` as
-    /// [`Taps::load`]. Safety, besides AVX2 and FMA: `INSIDE` only where `taps.inside()` (a
-    /// read may then skip its bounds checks, as [`Taps::load_f32x4`] does).
-    #[inline]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn tap<V: Voxel, const INSIDE: bool>(
-        taps: &Taps<'_, V>,
-        k: usize,
-        taus: Taus<'_>,
-    ) -> [__m256; 4] {
-        // SAFETY: the caller's contract (AVX2 and FMA), which this function has too.
-        unsafe { Self::channels(taps.load::<INSIDE>(k), taus) }
-    }
-}
-
-impl ReadTaps for Unorm8 {}
-
-impl ReadTaps for TauOfAlpha8 {
-    /// `[τ·r, τ·g, τ·b, τ]` with `τ = taus[α byte]`, as `TauTable::extinction`: the eight
-    /// `τ` by one gather where the CPU's gathers are fast ([`Taus`]), else by eight scalar
-    /// loads (the same values either way).
-    #[inline]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn channels(word: __m256i, taus: Taus<'_>) -> [__m256; 4] {
-        let [r, g, b, _] = channels(word);
-        let alpha = _mm256_srli_epi32::<24>(word);
-        let tau = if taus.gather {
-            // SAFETY: every index is the top byte of a lane (`0..=255`), inside the table's
-            // 256 `f32`s; AVX2, which the gather needs, is this function's contract.
-            unsafe { _mm256_i32gather_ps::<4>(taus.table.as_ptr(), alpha) }
-        } else {
-            // (Each index is below 256: `get` never misses, and its test folds away.)
-            let tau = |n: i32| taus.table.get(n as u32 as usize).copied().unwrap_or(0.0);
-            lanes(map8(to_i32s(alpha), tau))
-        };
-        let mul = _mm256_mul_ps;
-        [mul(tau, r), mul(tau, g), mul(tau, b), tau]
-    }
-}
-
-impl ReadTaps for StoredF32x4 {
-    /// Each tap's stored `[C^τ, τ]` ([`Taps::load_f32x4`]).
-    #[inline]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn tap<V: Voxel, const INSIDE: bool>(
-        taps: &Taps<'_, V>,
-        k: usize,
-        _taus: Taus<'_>,
-    ) -> [__m256; 4] {
-        // SAFETY: the caller's contract: AVX2 and FMA, and `taps.inside()` where `INSIDE`.
-        unsafe { taps.load_f32x4::<INSIDE>(k) }
-    }
-}
-
-/// The channels of all eight taps ([`ReadTaps::tap`] of each, called here directly: through a
-/// closure per tap, the one-ray march of 16-byte extinction voxels took 1.18–1.19 of its
-/// former time in quick passes, the reads apparently not inlined). Safety: AVX2 and FMA, and
-/// `INSIDE` only where `taps.inside()`.
-#[inline]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn all_taps<R: ReadTaps, V: Voxel, const INSIDE: bool>(
-    taps: &Taps<'_, V>,
-    taus: Taus<'_>,
-) -> [[__m256; 4]; 8] {
-    // SAFETY: the caller's contract (AVX2 and FMA, and `taps.inside()` where `INSIDE`), which
-    // `ReadTaps::tap` asks for.
-    unsafe {
-        [
-            R::tap::<V, INSIDE>(taps, 0, taus),
-            R::tap::<V, INSIDE>(taps, 1, taus),
-            R::tap::<V, INSIDE>(taps, 2, taus),
-            R::tap::<V, INSIDE>(taps, 3, taus),
-            R::tap::<V, INSIDE>(taps, 4, taus),
-            R::tap::<V, INSIDE>(taps, 5, taus),
-            R::tap::<V, INSIDE>(taps, 6, taus),
-            R::tap::<V, INSIDE>(taps, 7, taus),
-        ]
-    }
-}
-
 impl<M: LaneMode> Kind for M {
     const LAG: u32 = M::LAG;
     type Out = Sample;
@@ -244,13 +136,19 @@ impl<M: LaneMode> Kind for M {
     ) {
         let [k0, _, k2, _] = ks;
         if A != 0 && taps.pairs() {
-            let [t0, t1] = taps.load_pair(k0);
-            let [t2, t3] = taps.load_pair(k2);
             // SAFETY: the caller's contract (AVX2 and FMA), on which this function runs; so
             // below.
-            *out = map4([t0, t1, t2, t3], |t| unsafe {
-                <M::Taps as ReadTaps>::channels(t, taus)
-            });
+            let [t0, t1] = unsafe { <M::Taps as ReadTaps>::read_pair(taps, k0, taus) };
+            // SAFETY: as above.
+            let [t2, t3] = unsafe { <M::Taps as ReadTaps>::read_pair(taps, k2, taus) };
+            *out = map4(
+                [t0, t1, t2, t3],
+                #[inline(always)]
+                |t| {
+                    // SAFETY: as above.
+                    unsafe { <M::Taps as ReadTaps>::channels_of(t, taus) }
+                },
+            );
         } else if taps.inside() {
             for (c, k) in out.iter_mut().zip(ks) {
                 // SAFETY: as above, and `taps.inside()` for `INSIDE`.
@@ -278,16 +176,25 @@ impl<M: LaneMode> Kind for M {
     ) -> [__m256; 4] {
         if taps.pairs() {
             let w = weights(f);
-            // The four pairs' words first (eight registers), then each tap's channels when
-            // the sums come to it.
-            let [[w0, w1], [w2, w3], [w4, w5], [w6, w7]] =
-                map4([0, 2, 4, 6], |k| taps.load_pair(k));
-            let words = [w0, w1, w2, w3, w4, w5, w6, w7];
-            let word = |k: usize| words.get(k).copied().unwrap_or(_mm256_setzero_si256());
+            // The four pairs' words first (eight registers; and their `τ`, [`TauOfAlpha8`]),
+            // then each tap's channels when the sums come to it.
             // SAFETY: the caller's contract (AVX2 and FMA): this function is inlined into the
-            // kernel, compiled for them.
+            // kernel, compiled for them; so below.
+            // (The closures `#[inline(always)]`: with `TauOfAlpha8`'s reads LLVM kept them
+            // calls.)
+            let [[w0, w1], [w2, w3], [w4, w5], [w6, w7]] = map4(
+                [0, 2, 4, 6],
+                #[inline(always)]
+                |k| unsafe { <M::Taps as ReadTaps>::read_pair(taps, k, taus) },
+            );
+            let raws = [w0, w1, w2, w3, w4, w5, w6, w7];
             mode_sums::<M::W>(
-                |k| unsafe { <M::Taps as ReadTaps>::channels(word(k), taus) },
+                #[inline(always)]
+                |k| {
+                    let raw = raws.get(k).copied().unwrap_or(w0);
+                    // SAFETY: as above.
+                    unsafe { <M::Taps as ReadTaps>::channels_of(raw, taus) }
+                },
                 &w,
             )
         } else {

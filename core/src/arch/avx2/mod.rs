@@ -111,15 +111,17 @@ use crate::voxel::{ExtinctionF32, StraightF32, StraightU8, Voxel};
 mod kernel;
 mod kind;
 mod lanes;
+mod reads;
 mod sums;
 mod taps;
 #[cfg(test)]
 mod tests;
 
 use kernel::*;
-pub use kind::ReadTaps;
-pub(crate) use kind::{IntOw, Kind, Taus};
+pub(crate) use kind::{IntOw, Kind};
 use lanes::*;
+pub use reads::ReadTaps;
+pub(crate) use reads::Taus;
 use sums::*;
 use taps::*;
 

@@ -164,34 +164,90 @@ impl<'d, V: Voxel> Taps<'d, V> {
     #[inline]
     #[target_feature(enable = "avx2,fma")]
     pub(super) fn load_pair(&self, k: usize) -> [__m256i; 2] {
+        // SAFETY: this function's AVX2 and FMA.
+        match unsafe { self.pair_reads(k, |_| ()) } {
+            Some((words, _, _)) => words,
+            None => self.load_two(k),
+        }
+    }
+
+    /// [`load_pair`](Self::load_pair), and the `τ` of the two taps' opacity bytes by `table`:
+    /// each lane's two bytes read as scalars beside its pair (at the indices the pair read
+    /// has taken out of the vector already), so that no lane of the words is taken out again
+    /// for the lookups. Where `pairs` is not set, the checked loads and the `τ` of their
+    /// opacity bytes.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2 and FMA. (`#[inline(always)]`, which `#[target_feature]` does
+    /// not allow: with the hint alone LLVM kept it a call, and the one-ray march of
+    /// `ExtinctionWeightedU8` executed 1.4 times the instructions.)
+    #[inline(always)]
+    pub(super) unsafe fn load_pair_tau(
+        &self,
+        k: usize,
+        table: &[f32; 256],
+    ) -> [(__m256i, __m256); 2] {
+        let tau = |v: StraightU8| table.get(usize::from(v.0[3])).copied().unwrap_or(0.0);
+        // SAFETY: the caller's contract (AVX2 and FMA), which the reads and the vector
+        // operations below need.
+        unsafe {
+            let Some(([even, odd], same, t)) = self.pair_reads(k, |two| two.each(tau)) else {
+                return self.load_two(k).each(|w| (w, taus_of(w, table)));
+            };
+            let [t0, t1] = [0, 1].each(|j| lanes(t.each(|two| two.get(j).copied().unwrap_or(0.0))));
+            // Tap `k + 1`'s `τ` is tap `k`'s where the two are one voxel, as its word is.
+            [
+                (even, t0),
+                (odd, _mm256_blendv_ps(t1, t0, _mm256_castsi256_ps(same))),
+            ]
+        }
+    }
+
+    /// The pair read of [`load_pair`](Self::load_pair) where `pairs` (else `None`): the two
+    /// taps' words, the lanes where the two taps are one voxel (all ones), and `also` of each
+    /// lane's two voxels side by side (the first tap's voxel and the one after it).
+    ///
+    /// # Safety
+    /// The CPU must have AVX2 and FMA (`#[inline(always)]`, as
+    /// [`load_pair_tau`](Self::load_pair_tau)).
+    #[inline(always)]
+    unsafe fn pair_reads<T: Copy>(
+        &self,
+        k: usize,
+        also: impl Fn([StraightU8; 2]) -> T,
+    ) -> Option<([__m256i; 2], __m256i, [T; 8])> {
         let (at, odd, bytes) = match (self.at.get(k), self.at.get(k + 1), self.bytes) {
             (Some(&at), Some(&odd), Some(bytes)) if self.pairs && k % 2 == 0 => (at, odd, bytes),
-            _ => return self.load_two(k),
+            _ => return None,
         };
-        let [i0, i1, i2, i3, i4, i5, i6, i7] = to_i32s(at);
-        let pair = |i: i32| {
-            let i = i as u32 as usize;
-            // SAFETY: `pairs`: `i + 1 < data.len()` = `bytes.len()` for the index `i` of every
-            // even tap `k`; the two `StraightU8` (`repr(transparent)` over `[u8; 4]`) are
-            // eight initialised bytes side by side, read unaligned.
-            unsafe {
+        // SAFETY: the caller's contract (AVX2 and FMA) for the vector operations; for the
+        // reads, `pairs`: `i + 1 < data.len()` = `bytes.len()` for the index `i` of every even
+        // tap `k`, and the two `StraightU8` (`repr(transparent)` over `[u8; 4]`) are eight
+        // initialised bytes side by side, read unaligned.
+        unsafe {
+            let read = |i: i32| {
+                let i = i as u32 as usize;
                 let two = bytes.get_unchecked(i..i + 2);
-                two.as_ptr().cast::<i64>().read_unaligned()
-            }
-        };
-        // Lanes 0, 1, 4, 5 and 2, 3, 6, 7, so that taking the even and the odd words of the
-        // two (per 128-bit half) leaves the lanes in order.
-        let half = |a: i32, b: i32| _mm_insert_epi64::<1>(_mm_cvtsi64_si128(pair(a)), pair(b));
-        let four = |lo: __m128i, hi: __m128i| {
-            _mm256_castsi256_ps(_mm256_inserti128_si256::<1>(_mm256_castsi128_si256(lo), hi))
-        };
-        let a = four(half(i0, i1), half(i4, i5));
-        let b = four(half(i2, i3), half(i6, i7));
-        let even = _mm256_castps_si256(_mm256_shuffle_ps::<0b10_00_10_00>(a, b));
-        let next = _mm256_castps_si256(_mm256_shuffle_ps::<0b11_01_11_01>(a, b));
-        // Tap `k + 1` is tap `k`'s voxel where its index is the same (`pairs`: else the next).
-        let same = _mm256_cmpeq_epi32(at, odd);
-        [even, _mm256_blendv_epi8(next, even, same)]
+                let pair = two.as_ptr().cast::<i64>().read_unaligned();
+                (pair, also([*two.get_unchecked(0), *two.get_unchecked(1)]))
+            };
+            let [p0, p1, p2, p3, p4, p5, p6, p7] = map8(to_i32s(at), read);
+            // Lanes 0, 1, 4, 5 and 2, 3, 6, 7, so that taking the even and the odd words of
+            // the two (per 128-bit half) leaves the lanes in order.
+            let half = |a: i64, b: i64| _mm_insert_epi64::<1>(_mm_cvtsi64_si128(a), b);
+            let four = |lo: __m128i, hi: __m128i| {
+                _mm256_castsi256_ps(_mm256_inserti128_si256::<1>(_mm256_castsi128_si256(lo), hi))
+            };
+            let a = four(half(p0.0, p1.0), half(p4.0, p5.0));
+            let b = four(half(p2.0, p3.0), half(p6.0, p7.0));
+            let even = _mm256_castps_si256(_mm256_shuffle_ps::<0b10_00_10_00>(a, b));
+            let next = _mm256_castps_si256(_mm256_shuffle_ps::<0b11_01_11_01>(a, b));
+            // Tap `k + 1` is tap `k`'s voxel where its index is the same (`pairs`: else the
+            // next).
+            let same = _mm256_cmpeq_epi32(at, odd);
+            let also = [p0.1, p1.1, p2.1, p3.1, p4.1, p5.1, p6.1, p7.1];
+            Some(([even, _mm256_blendv_epi8(next, even, same)], same, also))
+        }
     }
 
     /// Taps `k` and `k + 1` by the checked [`load`](Self::load): [`load_pair`](Self::load_pair)
@@ -312,6 +368,17 @@ pub(super) fn channels(g: __m256i) -> [__m256; 4] {
         _mm256_srli_epi32::<24>(g),
     ];
     map4(bytes, |n| unorm8(n))
+}
+
+/// The `τ` of the opacity bytes of eight little-endian RGBA words by `table`: eight scalar
+/// lookups.
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+pub(super) fn taus_of(word: __m256i, table: &[f32; 256]) -> __m256 {
+    let alpha = _mm256_srli_epi32::<24>(word);
+    // (Each index is below 256: `get` never misses, and its test folds away.)
+    let tau = |n: i32| table.get(n as u32 as usize).copied().unwrap_or(0.0);
+    lanes(map8(to_i32s(alpha), tau))
 }
 
 /// [`Taps::load_f32x4`] of the voxels `data` at the indices `at`, each voxel a vector by

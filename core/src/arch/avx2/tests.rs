@@ -74,7 +74,7 @@ fn taps_check() {
 /// `Taps::new` sets `pairs` exactly where every odd tap lies just after its even one or at
 /// it (x clamped at an edge), all inside and every even tap's pair too, in `StraightU8`
 /// data; `load_pair` reads what `load` reads, with `pairs` or without (its fallback), for
-/// even and odd `k`.
+/// even and odd `k`, and `load_pair_tau` the same words with the `τ` of their opacity bytes.
 #[test]
 #[cfg_attr(
     all(miri, not(all(target_feature = "avx2", target_feature = "fma"))),
@@ -85,7 +85,7 @@ fn pairs_are_read_only_side_by_side() {
         return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
     };
     // SAFETY: `detect` found AVX2 and FMA on this CPU.
-    unsafe { pairs_check() }
+    assert_eq!(unsafe { pairs_check() }, Ok(()));
 }
 
 /// A format like `StraightU8` but not it: never read in pairs, and read as transparent
@@ -103,7 +103,8 @@ impl Voxel for Other {
 }
 
 #[target_feature(enable = "avx2,fma")]
-fn pairs_check() {
+fn pairs_check() -> Result<(), crate::Error> {
+    let table = crate::mode::TauTable::new(0.7)?;
     let bytes = |i: usize| [i as u8, 3 * i as u8, 7, 255 - i as u8];
     let data: [StraightU8; 20] = core::array::from_fn(|i| StraightU8(bytes(i)));
     let other: [Other; 20] = core::array::from_fn(|i| Other(bytes(i)));
@@ -150,8 +151,21 @@ fn pairs_check() {
                 [[0; 8]; 2],
                 "tap {k}, {pairs}"
             );
+            // With the `τ` of each word's opacity byte (0 for the transparent words).
+            // SAFETY: this function's AVX2 and FMA; so below.
+            let got = unsafe { taps.load_pair_tau(k, table.taus()) };
+            // SAFETY: as above.
+            let got_others = unsafe { others.load_pair_tau(k, table.taus()) };
+            for (got, want) in [(got, want), (got_others, [[0; 8]; 2])] {
+                for ((word, tau), want) in got.into_iter().zip(want) {
+                    assert_eq!(to_i32s(word), want, "tap {k}, {pairs}");
+                    let want = want.map(|w| table.tau((w as u32 >> 24) as u8).to_bits());
+                    assert_eq!(array(tau).map(f32::to_bits), want, "tap {k}, {pairs}");
+                }
+            }
         }
     }
+    Ok(())
 }
 
 /// `integrate_in` in `F32x8` lanes (the kernel's extinction step) is `integrate_step` in
