@@ -34,6 +34,8 @@ fn finite(a: V3) -> bool {
     a.iter().all(|x| x.is_finite())
 }
 /// `a/|a|`, or `None` for a zero or non-finite vector.
+// (Inlined on x86-64, as `clip`.)
+#[cfg_attr(target_arch = "x86_64", inline)]
 fn normalize(a: V3) -> Option<V3> {
     if !finite(a) {
         return None;
@@ -97,6 +99,11 @@ impl Ray {
     /// Slab method; an axis with a zero direction component constrains nothing when the
     /// origin lies inside its slab (boundary included) and rejects the ray otherwise. A ray
     /// touching the box in one point gives `t0 = t1`.
+    // On x86-64 inlined where it is used, so that it is compiled in the instruction set of
+    // the caller (a camera's rays and each ray's sample range, computed inside the marcher's
+    // AVX2 entry, ran as calls to baseline code; the performance log, 2026-12-07
+    // (afternoon)); elsewhere left to the compiler, for code size.
+    #[cfg_attr(target_arch = "x86_64", inline)]
     pub fn clip(&self, dims: [usize; 3]) -> Option<(f32, f32)> {
         let mut t0 = 0.0f32;
         let mut t1 = f32::INFINITY;

@@ -63,6 +63,7 @@ fn check_image(width: usize, height: usize, len: usize) -> Result<(), Error> {
 /// repeating its last pixel's ray and keeps only its own pixels (each lane's result is that
 /// of its ray alone, so the repeats change nothing).
 #[cfg(target_arch = "x86_64")]
+#[inline(always)]
 fn trace_rows8<P: Copy, Cam: Camera>(
     camera: &Cam,
     (width, height): (usize, usize),

@@ -306,8 +306,11 @@ where
         (over(acc, self.background), n)
     }
 
-    /// The ray's sample range: the first sample's `t`, and the sample count.
-    #[inline(never)]
+    /// The ray's sample range: the first sample's `t`, and the sample count. (On x86-64
+    /// inlined, as [`Ray::clip`], into the instruction set of its caller; elsewhere out of
+    /// line, for code size.)
+    #[cfg_attr(target_arch = "x86_64", inline)]
+    #[cfg_attr(not(target_arch = "x86_64"), inline(never))]
     fn samples(&self, ray: &Ray) -> (f32, u32) {
         let Some((t0, t1)) = ray.clip(self.volume.dims()) else {
             return (0.0, 0);
