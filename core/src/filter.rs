@@ -80,10 +80,37 @@ pub trait Filter: sealed::Sealed + Copy + Default + core::fmt::Debug {
     }
 }
 
+/// `⌊x⌋`, bit for bit `libm::floorf` for every `f32` (a test checks all 2³²). On x86-64:
+/// below 2²³ in magnitude by truncation to `i32`, one less where that rounded up, with the
+/// sign of `x` (so `⌊−0⌋ = −0`); from 2²³ on every `f32` is an integer, and infinities and
+/// NaN pass through. There libm's portable `floorf` branches on the exponent (it uses
+/// `roundss` only in a build for SSE4.1 or later, which a default build is not), and with it
+/// `RayMarcher::sample` inlined into a caller's loop was slower than with this one (by 5–13 %
+/// in the bench's random-access row; the performance log, 2026-12-07 (evening)). Elsewhere
+/// `libm::floorf` itself, so that the Cortex-M images keep their code.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(crate) fn floor(x: f32) -> f32 {
+    if x.abs() < 8_388_608.0 {
+        let t = (x as i32) as f32;
+        let f = if t > x { t - 1.0 } else { t };
+        f.copysign(x)
+    } else {
+        x
+    }
+}
+
+/// `⌊x⌋`: `libm::floorf` (see the x86-64 form above).
+#[cfg(not(target_arch = "x86_64"))]
+#[inline(always)]
+pub(crate) fn floor(x: f32) -> f32 {
+    libm::floorf(x)
+}
+
 /// Splits a coordinate into `⌊x⌋` and the fraction `x − ⌊x⌋`.
 #[inline(always)]
 fn split(x: f32) -> (isize, f32) {
-    let fl = libm::floorf(x);
+    let fl = floor(x);
     // `as` saturates (and maps NaN to 0), so no coordinate can overflow.
     (fl as isize, x - fl)
 }
@@ -366,7 +393,7 @@ impl<O: TrilinearOrder> Trilinear<O> {
         O::extinction_in_place(mode, vol)
     }
 
-    /// [`gather`](Self::gather) by the plain path: `⌊x⌋` by `floorf`, every tap clamped to
+    /// [`gather`](Self::gather) by the plain path: `⌊x⌋` exactly (`floor`), every tap clamped to
     /// the edge (the reference the fast path is tested against).
     #[inline(always)]
     pub fn gather_clamped<V: Voxel>(vol: &Volume<'_, V>, pos: [f32; 3]) -> ([V; 8], [f32; 3]) {

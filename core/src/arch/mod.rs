@@ -13,7 +13,7 @@
 //! A marcher has an AVX2 instance where its types have an eight-lane AVX2 kernel
 //! (`Filter::lanes8`: trilinear `OpacityWeighted`, `Separate` and the two extinction modes over
 //! the formats those kernels read, and the integer `OpacityWeighted` over RGBA8); there its
-//! whole march (one ray, packets, one sample) is compiled for AVX2 (`InIsa`). Every other
+//! whole march (one ray, packets, `sample_into`) is compiled for AVX2 (`InIsa`). Every other
 //! marcher (B-spline, nearest, the trilinear tree, `Preweighted`, post-classification) has one
 //! instance, the portable one, whatever its [`Isa`]: compiled for AVX2 the same code ran no
 //! faster (the performance log, 2026-12-07 (morning)) and took a second copy of every march

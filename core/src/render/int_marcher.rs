@@ -255,11 +255,22 @@ where
     }
 
     /// One sample at `pos` (voxel units, clamped and quantized as [`quantize`](Self::quantize)
-    /// does), opacity-corrected for the step. Runs in the marcher's [`Isa`](crate::Isa)
-    /// (integer arithmetic: the same bits in each).
+    /// does), opacity-corrected for the step. Inlined into the caller, in the caller's
+    /// instruction set whatever the marcher's [`Isa`](crate::Isa) (integer arithmetic: the
+    /// same bits in each), as [`RayMarcher::sample`](crate::RayMarcher::sample), and likewise a
+    /// call where the marcher corrects opacity.
     #[inline]
     pub fn sample(&self, pos: [f32; 3]) -> IntSample {
-        in_isa!(self, self.sample_here(pos))
+        match self.correction {
+            None => self.sample_with(pos, &Identity),
+            Some(_) => self.sample_corrected(pos),
+        }
+    }
+
+    /// [`sample`](Self::sample) of a marcher that corrects opacity, out of line.
+    #[inline(never)]
+    fn sample_corrected(&self, pos: [f32; 3]) -> IntSample {
+        self.sample_here(pos)
     }
 
     /// [`sample`](Self::sample) at each of `positions` into `out` (the batch form for random

@@ -222,17 +222,31 @@ where
     }
 
     /// One sample at `pos` (voxel units), opacity-corrected for the step: the associated
-    /// color and opacity of a segment of length `d`. Runs in the marcher's [`Isa`] (the same
-    /// `f32` operations in each, so the same bits).
+    /// color and opacity of a segment of length `d`. Inlined into the caller, in the caller's
+    /// instruction set whatever the marcher's [`Isa`] (one sample is scalar code: the same
+    /// `f32` operations in every instruction set, so the same bits). Entering the marcher's
+    /// instruction set per call kept a caller's loop from overlapping the memory reads of
+    /// consecutive positions, which is what random access waits on. Where the marcher corrects
+    /// opacity (`d ≠ d′`), the sample is a call ([`correction`](Self::correction)): with the
+    /// correction's code inlined beside it, the compiler packed the weighted sums of the
+    /// common case `d = d′` into vector lanes, which made random access slower.
     #[inline]
     pub fn sample(&self, pos: [f32; 3]) -> Sample {
-        in_isa!(self, self.sample_here(pos))
+        match self.correction {
+            None => self.sample_with(pos, &Uncorrected),
+            Some(_) => self.sample_corrected(pos),
+        }
+    }
+
+    /// [`sample`](Self::sample) of a marcher that corrects opacity, out of line.
+    #[inline(never)]
+    fn sample_corrected(&self, pos: [f32; 3]) -> Sample {
+        self.sample_here(pos)
     }
 
     /// [`sample`](Self::sample) at each of `positions` into `out`, bit for bit: the batch form
-    /// for random access, entering the marcher's [`Isa`] once (`sample` enters it per call,
-    /// which the caller's loop cannot inline) and prefetching the cell of the position eight
-    /// on, so that reads from memory overlap.
+    /// for random access, in the marcher's [`Isa`] (entered once) and prefetching the cell of
+    /// the position eight on, so that reads from memory overlap further.
     ///
     /// # Errors
     /// [`Error::ImageSizeMismatch`] unless `out.len() == positions.len()`.
@@ -249,7 +263,9 @@ where
         Ok(())
     }
 
-    /// [`sample`](Self::sample) in the instruction set of the caller.
+    /// [`sample`](Self::sample) in the instruction set of the caller: each position of
+    /// `sample_into` (inside the marcher's instruction set), and `sample` where the marcher
+    /// corrects opacity.
     #[inline(always)]
     fn sample_here(&self, pos: [f32; 3]) -> Sample {
         if M::OPACITY_BASED {

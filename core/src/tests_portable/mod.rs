@@ -560,4 +560,22 @@ fn extinction_marcher_of_a_constant_medium() -> Result<(), Error> {
     Ok(())
 }
 
+/// The trilinear split's `⌊x⌋` (`filter::floor`, which replaced `libm::floorf` there) is
+/// `libm::floorf` bit for bit at every `f32`: all 2³² bit patterns, signed zeros, subnormals,
+/// infinities and NaNs included.
+#[test]
+#[cfg_attr(
+    miri,
+    ignore = "exhaustive (every f32): too slow for Miri; runs natively in `cargo test`"
+)]
+fn floor_is_floorf_at_every_f32() {
+    let mismatches = (0..=u32::MAX)
+        .filter(|&bits| {
+            let x = f32::from_bits(bits);
+            crate::filter::floor(x).to_bits() != libm::floorf(x).to_bits()
+        })
+        .count();
+    assert_eq!(mismatches, 0);
+}
+
 mod integer;
