@@ -1,5 +1,5 @@
 //! Lane conversions and the kernel's exact integer helpers: arrays to and from vectors,
-//! `n/255` of bytes, `⌊n/65280⌋`, the round-half-up quantization.
+//! `n/255` of bytes, the compositing's `⌊(t·x + ONE/2)/ONE⌋`, the round-half-up quantization.
 
 use core::arch::x86_64::*;
 
@@ -83,18 +83,25 @@ pub(super) fn unorm8(n: __m256i) -> __m256 {
     )
 }
 
-/// `⌊n/65280⌋` (`65280 = 255·256 = fixed_point::ONE`) per lane for every `u32` `n`:
-/// `⌊n·0x8080_8081/2^47⌋` (`0x8080_8081 = ⌈2^47/65280⌉`; the excess `n·0.498…/2^47` stays
-/// below `1/65280` for `n < 2^32`), the 64-bit products of the even and the odd lanes by two
-/// `vpmuludq`. A unit test checks every `n`.
+/// `fixed_point::front_to_back`'s increment `⌊(t·x + ONE/2)/ONE⌋` (**round half up**) in
+/// each of the sixteen 16-bit lanes, for `t, x ≤ ONE = 65280 = 255·256`, in `u16` operations
+/// only: with the product `t·x = 2^16·h + l` (`vpmulhuw`, `vpmullw`; `h ≤ 65025`), the
+/// quotient is `⌊⌊N/256⌋/255⌋` for `N = t·x + ONE/2`, where `⌊N/256⌋ = 256·h + m` and
+/// `m = ⌊(l + 32640)/256⌋ ≤ 383`; so it is `h + ⌊(h + m)/255⌋`, and for `y = h + m ≤ 65408`,
+/// `⌊y/255⌋ = ⌊(y + 1)·257/2^16⌋` (with `y = 255k + r`, `(y + 1)·257 = 65535k + 257(r + 1)`
+/// lies in `[2^16·k, 2^16·(k + 1))` as `k ≤ 256`). `m + 1 = ⌊(l + 32896)/256⌋ =
+/// ⌊(⌊l/128⌋ + 257)/2⌋`: the rounding average (`vpavgw`, `⌊(a + b + 1)/2⌋`) of `l >> 7` and
+/// 256. (The average of `l` and `32895` shifted by 7, the same value, LLVM widened to `u32`
+/// lanes: eight operations for the two.) Eight operations for two channels of eight lanes,
+/// where a channel in `u32` lanes took nine (`t·x + ONE/2`, then `⌊n/65280⌋` by two 64-bit
+/// `vpmuludq` of its even and odd lanes). A unit test checks every pair `t, x`.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn div65280(n: __m256i) -> __m256i {
-    let m = _mm256_set1_epi32(0x8080_8081_u32 as i32);
-    let even = _mm256_srli_epi64::<47>(_mm256_mul_epu32(n, m));
-    // The odd lanes' quotients land in the high half of each 64-bit lane.
-    let odd = _mm256_srli_epi64::<15>(_mm256_mul_epu32(_mm256_srli_epi64::<32>(n), m));
-    _mm256_blend_epi32::<0b1010_1010>(even, odd)
+pub(super) fn over_u16(t: __m256i, x: __m256i) -> __m256i {
+    let (h, l) = (_mm256_mulhi_epu16(t, x), _mm256_mullo_epi16(t, x));
+    let m1 = _mm256_avg_epu16(_mm256_srli_epi16::<7>(l), _mm256_set1_epi16(256));
+    let q = _mm256_mulhi_epu16(_mm256_add_epi16(h, m1), _mm256_set1_epi16(257));
+    _mm256_add_epi16(h, q)
 }
 
 /// `⌊256·p + ½⌋` (**round half up**) per lane for `0 ≤ p < 2^14` (`256·p` exact): for

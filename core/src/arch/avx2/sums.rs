@@ -50,8 +50,12 @@ pub(super) fn int_pair(w0: __m256i, w1: __m256i) -> [__m256; 4] {
 /// `f ≤ 255` and the packed values fit its signed 16-bit operands); along the second,
 /// `Y = g·X₀ + f·X₁`, which for a color is the true sum `≤ 2^16·255² < 2^32` minus `2^31`
 /// modulo `2^32` (so the true sum is `Y` with its top bit flipped); along z, `S_α = gz·Y₀ +
-/// fz·Y₁ ≤ 2^24·255`, while `S_c < 2^40` is formed in 64-bit lanes (`vpmuludq` of the even and
-/// the odd lanes): `q + 1 = ⌊(S_c + 255·2^15 + 2^16)/2^16⌋ ≤ 2^24` and `C̃ = ⌊q/255⌋ =
+/// fz·Y₁ ≤ 2^24·255`, while `S_c < 2^40` is formed in two halves: with each true `Y =
+/// 2^16·Y_h + Y_l`, `S_c = 2^16·H + L` for `H = gz·Y_h₀ + fz·Y_h₁` and `L = gz·Y_l₀ + fz·Y_l₁`
+/// (each below `2^24`), one `vpmaddwd` each: `Y_h − 2^15` is the high half of `Y` as it is
+/// held (top bit flipped) read as an `i16`, and `Y_l − 2^15` its low half with the top bit
+/// flipped, so the products sum to `H − 2^23` and `L − 2^23`. Then `q + 1 =
+/// H + ⌊(L + 255·2^15)/2^16⌋ + 1 ≤ 2^24` and `C̃ = ⌊q/255⌋ =
 /// ⌊(q + 1)·0x0101_0101/2^32⌋` (`0x0101_0101 = (2^32 − 1)/255`: with `q = 255k + r`,
 /// `(q + 1)/255 − (q + 1)/(255·2^32)` lies in `(k, k + 1)`; [`RECIP255`]). The first axis by
 /// `vpmaddwd` (one instruction per channel and pair, where three products and a sum were)
@@ -80,19 +84,25 @@ pub(super) fn int_sums(pair: impl Fn(usize) -> [__m256; 4], f: [__m256i; 3]) -> 
     let [r1, g1, b1, a1] = along_q(along_p(2), along_p(3));
     let alpha = _mm256_srli_epi32::<16>(add(lerp(a0, a1, fz), _mm256_set1_epi32(1 << 15)));
     let (gz, fz) = fz;
-    let (gz_odd, fz_odd) = (_mm256_srli_epi64::<32>(gz), _mm256_srli_epi64::<32>(fz));
-    let (mul64, add64) = (_mm256_mul_epu32, _mm256_add_epi64);
-    let bias = _mm256_set1_epi64x((255 << 15) + (1 << 16));
+    let wz = _mm256_or_si256(gz, _mm256_slli_epi32::<16>(fz));
+    let flip = _mm256_set1_epi16(i16::MIN);
+    let (k_lo, k_hi) = (
+        _mm256_set1_epi32((1 << 23) + (255 << 15)),
+        _mm256_set1_epi32((1 << 23) + 1),
+    );
     let m = _mm256_set1_epi32(RECIP255 as i32);
-    let top = _mm256_set1_epi32(i32::MIN);
     let color = |y0: __m256i, y1: __m256i| {
-        // The true sums along the second axis (see above).
-        let (y0, y1) = (_mm256_xor_si256(y0, top), _mm256_xor_si256(y1, top));
-        let odd = _mm256_srli_epi64::<32>;
-        let even_z = add64(add64(mul64(y0, gz), mul64(y1, fz)), bias);
-        let odd_z = add64(add64(mul64(odd(y0), gz_odd), mul64(odd(y1), fz_odd)), bias);
-        let e = _mm256_srli_epi64::<32>(mul64(_mm256_srli_epi64::<16>(even_z), m));
-        let o = mul64(_mm256_srli_epi64::<16>(odd_z), m);
+        // The high halves of the true sums less `2^15` (the flipped top bit), and the low
+        // halves so, paired for `vpmaddwd`: `H − 2^23` and `L − 2^23` (see above).
+        let hi = _mm256_blend_epi16::<0b1010_1010>(_mm256_srli_epi32::<16>(y0), y1);
+        let lo = _mm256_blend_epi16::<0b1010_1010>(y0, _mm256_slli_epi32::<16>(y1));
+        let (h, l) = (
+            _mm256_madd_epi16(hi, wz),
+            _mm256_madd_epi16(_mm256_xor_si256(lo, flip), wz),
+        );
+        let q1 = add(add(h, _mm256_srli_epi32::<16>(add(l, k_lo))), k_hi);
+        let e = _mm256_srli_epi64::<32>(_mm256_mul_epu32(q1, m));
+        let o = _mm256_mul_epu32(_mm256_srli_epi64::<32>(q1), m);
         _mm256_castsi256_ps(_mm256_blend_epi32::<0b1010_1010>(e, o))
     };
     [

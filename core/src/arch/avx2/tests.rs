@@ -362,29 +362,39 @@ fn correction_check() {
     assert!(fast > 5_000, "{fast}");
 }
 
-/// `div65280` is `⌊n/65280⌋` for every `u32` `n`, in every lane.
+/// `over_u16` is `⌊(t·x + ONE/2)/ONE⌋` (`fixed_point::front_to_back`'s increment, in `u64`
+/// here) for every pair `t, x ≤ ONE`, in every 16-bit lane.
 #[test]
 #[cfg_attr(
     miri,
-    ignore = "exhaustive (every u32): too slow for Miri; runs natively and under ASan"
+    ignore = "exhaustive (every pair of U8.8 values): too slow for Miri; runs natively and under ASan"
 )]
-fn div65280_is_the_floor_of_the_quotient_for_every_u32() {
+fn over_u16_is_the_rounded_increment_for_every_pair() {
     let Some(_cpu) = Avx2::detect() else {
         return; // no AVX2 here: nothing to check (`tests/isa.rs` checks the detection)
     };
     // SAFETY: `detect` found AVX2 and FMA on this CPU.
-    unsafe { div65280_check() }
+    unsafe { over_u16_check() }
 }
 
 #[target_feature(enable = "avx2,fma")]
-fn div65280_check() {
-    for n0 in (0..=u32::MAX).step_by(LANES) {
-        // Lane `l` holds one of `n0..n0 + 8`, rotated by `n0`, so every `n` meets every
-        // lane.
-        let lanes: [i32; LANES] = core::array::from_fn(|l| (n0 + ((l as u32 + n0 / 8) & 7)) as i32);
-        let got = to_i32s(div65280(indices(lanes)));
-        let want = lanes.map(|n| (n as u32 / 65280) as i32);
-        assert_eq!(got, want, "{lanes:?}");
+fn over_u16_check() {
+    const ONE: u16 = crate::fixed_point::ONE;
+    let want = |t: u16, x: u16| {
+        let one = u64::from(ONE);
+        ((u64::from(t) * u64::from(x) + one / 2) / one) as u16
+    };
+    for t in 0..=ONE {
+        let tv = _mm256_set1_epi16(t as i16);
+        for x0 in (0..=ONE).step_by(16) {
+            // The last vector repeats `ONE` past it.
+            let xs: [u16; 16] = core::array::from_fn(|l| x0.saturating_add(l as u16).min(ONE));
+            // SAFETY: a bit cast between two 32-byte plain-data types.
+            let xv = unsafe { core::mem::transmute::<[u16; 16], __m256i>(xs) };
+            // SAFETY: as above.
+            let got = unsafe { core::mem::transmute::<__m256i, [u16; 16]>(over_u16(tv, xv)) };
+            assert_eq!(got, xs.map(|x| want(t, x)), "t = {t}, x = {xs:?}");
+        }
     }
 }
 
