@@ -387,8 +387,12 @@ fn over_u16_check() {
     for t in 0..=ONE {
         let tv = _mm256_set1_epi16(t as i16);
         for x0 in (0..=ONE).step_by(16) {
-            // The last vector repeats `ONE` past it.
-            let xs: [u16; 16] = core::array::from_fn(|l| x0.saturating_add(l as u16).min(ONE));
+            // Lane `l` holds one of `x0..x0 + 16`, rotated by `t` and `x0`, so that every `x`
+            // meets every lane; past `ONE` (the last vector), `ONE` again.
+            let xs: [u16; 16] = core::array::from_fn(|l| {
+                let k = (l as u16).wrapping_add(t).wrapping_add(x0 / 16) & 15;
+                x0.saturating_add(k).min(ONE)
+            });
             // SAFETY: a bit cast between two 32-byte plain-data types.
             let xv = unsafe { core::mem::transmute::<[u16; 16], __m256i>(xs) };
             // SAFETY: as above.
